@@ -1,0 +1,263 @@
+//! The RON scene schema: the serde types a `scenes/*.ron` file deserializes into.
+//!
+//! These types are the documented file format; they hold exactly what the file says, in
+//! file units (degrees, scene units). [`super::validate`] checks the rules that serde cannot
+//! express (ranges, geometry, references) and [`super::load`] ties the two together.
+//!
+//! ```ron
+//! Scene(
+//!     camera: (position: (0, 1.5, -6), look_at: (0, 0.8, 0), up: (0, 1, 0),
+//!              fov_deg: 45, width: 640, height: 480),
+//!     settings: (max_depth: 5, min_contribution: 0.001, background: (0.05, 0.07, 0.1),
+//!                ambient: (0.1, 0.1, 0.1), seed: 7),
+//!     materials: [
+//!         (name: "matte", kd: (0.8, 0.2, 0.2)),
+//!         (name: "mirror", kd: (0.05, 0.05, 0.05), ks: 0.9, shininess: 200, kr: 0.9),
+//!         (name: "glass", kd: (0, 0, 0), ks: 0.5, shininess: 300, kr: 0.1, kt: 0.9, ior: 1.5),
+//!     ],
+//!     lights: [
+//!         Point(position: (-4, 6, -3), colour: (1, 1, 1), intensity: 0.8),
+//!         Directional(direction: (1, -1, 1), colour: (1, 0.95, 0.9), intensity: 0.3),
+//!     ],
+//!     objects: [
+//!         (name: "floor", shape: Plane(point: (0, 0, 0), normal: (0, 1, 0)), material: "matte"),
+//!         (name: "ball", shape: Sphere(centre: (0, 1, 0), radius: 1), material: "mirror"),
+//!         (shape: Triangle(vertices: ((0, 0, 0), (1, 0, 0), (0, 1, 0))), material: "matte"),
+//!         (shape: Polygon(vertices: [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)]), material: "matte"),
+//!         (shape: Box(min: (-1, 0, -1), max: (1, 1, 1)), material: "glass",
+//!          transform: (translate: (2, 0, 0), rotate_deg: (0, 30, 0), scale: (1, 1, 1))),
+//!     ],
+//! )
+//! ```
+//!
+//! Vectors and colours are RON tuples `(x, y, z)`; integers are accepted where floats are
+//! expected. Colours are linear RGB.
+
+use glam::Vec3;
+use serde::Deserialize;
+
+/// A whole scene file.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(rename = "Scene", deny_unknown_fields)]
+pub struct SceneDesc {
+    /// The pinhole camera.
+    pub camera: CameraDesc,
+    /// Render settings; every field has a default.
+    #[serde(default)]
+    pub settings: SettingsDesc,
+    /// Named materials, referenced by objects; their order defines material ids.
+    pub materials: Vec<MaterialDesc>,
+    /// Light sources.
+    #[serde(default)]
+    pub lights: Vec<LightDesc>,
+    /// Renderable objects.
+    pub objects: Vec<ObjectDesc>,
+}
+
+/// The camera: where it is, where it looks and the image it makes.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraDesc {
+    /// Eye position.
+    pub position: Vec3,
+    /// Point the camera looks at; must differ from `position`.
+    pub look_at: Vec3,
+    /// Up direction; must not be parallel to the view direction. Default `(0, 1, 0)`.
+    #[serde(default = "default_up")]
+    pub up: Vec3,
+    /// Vertical field of view in degrees, in (0, 180).
+    pub fov_deg: f32,
+    /// Image width in pixels, 1..=16384.
+    pub width: u32,
+    /// Image height in pixels, 1..=16384.
+    pub height: u32,
+}
+
+/// Render settings stored with the scene.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SettingsDesc {
+    /// Maximum recursion depth of reflection and refraction (0 = primary rays only). Default 5, at most 64.
+    pub max_depth: u32,
+    /// A secondary ray is not traced once its path weight falls below this, in [0, 1]. Default 0.001.
+    pub min_contribution: f32,
+    /// Colour of rays that hit nothing. Default black.
+    pub background: Vec3,
+    /// Ambient light, multiplied by each material's `kd`. Default `(0.1, 0.1, 0.1)`.
+    pub ambient: Vec3,
+    /// Seed of every random choice the renderer makes. Default 0.
+    pub seed: u64,
+}
+
+impl Default for SettingsDesc {
+    fn default() -> Self {
+        Self {
+            max_depth: 5,
+            min_contribution: 1e-3,
+            background: Vec3::ZERO,
+            ambient: Vec3::splat(0.1),
+            seed: 0,
+        }
+    }
+}
+
+/// A named Phong material.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialDesc {
+    /// Unique name that objects refer to.
+    pub name: String,
+    /// Diffuse reflectance (RGB), each channel in [0, 1].
+    pub kd: Vec3,
+    /// Specular reflectance in [0, 1]. Default 0.
+    #[serde(default)]
+    pub ks: f32,
+    /// Phong exponent, ≥ 0. Default 32.
+    #[serde(default = "default_shininess")]
+    pub shininess: f32,
+    /// Mirror reflectance in [0, 1]. Default 0.
+    #[serde(default)]
+    pub kr: f32,
+    /// Transmittance in [0, 1]; `kr + kt` must not exceed 1. Default 0.
+    #[serde(default)]
+    pub kt: f32,
+    /// Index of refraction, > 0. Default 1.5.
+    #[serde(default = "default_ior")]
+    pub ior: f32,
+    /// Blur of reflection and refraction in [0, 1]: 0 is a perfect mirror. Default 0.
+    #[serde(default)]
+    pub glossiness: f32,
+}
+
+/// A light source.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum LightDesc {
+    /// A point light with no distance falloff (as in classic Phong and POV-Ray).
+    Point {
+        /// Position.
+        position: Vec3,
+        /// Linear RGB colour, each channel ≥ 0. Default white.
+        #[serde(default = "default_colour")]
+        colour: Vec3,
+        /// Scale of the colour, ≥ 0. Default 1.
+        #[serde(default = "default_intensity")]
+        intensity: f32,
+    },
+    /// A light infinitely far away, shining along `direction`.
+    Directional {
+        /// Direction the light travels in (from the light towards the scene); non-zero.
+        direction: Vec3,
+        /// Linear RGB colour, each channel ≥ 0. Default white.
+        #[serde(default = "default_colour")]
+        colour: Vec3,
+        /// Scale of the colour, ≥ 0. Default 1.
+        #[serde(default = "default_intensity")]
+        intensity: f32,
+    },
+}
+
+/// One renderable object.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectDesc {
+    /// Unique name (scripts address objects by it). Default: the shape kind and index, e.g. `sphere_3`.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Geometry in object space.
+    pub shape: ShapeDesc,
+    /// Name of a material defined in `materials`.
+    pub material: String,
+    /// Placement in the world. Default: identity.
+    #[serde(default)]
+    pub transform: TransformDesc,
+}
+
+/// Geometry of an object, in object space.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum ShapeDesc {
+    /// A sphere; `radius` > 0.
+    Sphere {
+        /// Centre.
+        centre: Vec3,
+        /// Radius, > 0.
+        radius: f32,
+    },
+    /// An infinite plane through `point` with the given (non-zero) normal.
+    Plane {
+        /// Any point on the plane.
+        point: Vec3,
+        /// Normal; need not be unit length, must be non-zero.
+        normal: Vec3,
+    },
+    /// A single triangle; must have non-zero area.
+    Triangle {
+        /// The three corners, counter-clockwise seen from the front.
+        vertices: [Vec3; 3],
+    },
+    /// A convex planar polygon of at least three vertices, in order around its boundary.
+    Polygon {
+        /// The corners in order.
+        vertices: Vec<Vec3>,
+    },
+    /// An axis-aligned box (in object space; a rotation in `transform` orients it).
+    #[serde(rename = "Box")]
+    Cuboid {
+        /// Minimum corner.
+        min: Vec3,
+        /// Maximum corner; strictly greater than `min` on every axis.
+        max: Vec3,
+    },
+}
+
+impl ShapeDesc {
+    /// Lower-case kind name, used for default object names (`sphere`, `plane`, ...).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            ShapeDesc::Sphere { .. } => "sphere",
+            ShapeDesc::Plane { .. } => "plane",
+            ShapeDesc::Triangle { .. } => "triangle",
+            ShapeDesc::Polygon { .. } => "polygon",
+            ShapeDesc::Cuboid { .. } => "box",
+        }
+    }
+}
+
+/// Object-to-world placement: scale, then rotate (X, then Y, then Z, in degrees), then translate.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TransformDesc {
+    /// Translation.
+    pub translate: Vec3,
+    /// Rotation in degrees about X, then Y, then Z.
+    pub rotate_deg: Vec3,
+    /// Per-axis scale, each non-zero; spheres require a uniform scale.
+    pub scale: Vec3,
+}
+
+impl Default for TransformDesc {
+    fn default() -> Self {
+        Self {
+            translate: Vec3::ZERO,
+            rotate_deg: Vec3::ZERO,
+            scale: Vec3::ONE,
+        }
+    }
+}
+
+fn default_up() -> Vec3 {
+    Vec3::Y
+}
+fn default_shininess() -> f32 {
+    32.0
+}
+fn default_ior() -> f32 {
+    1.5
+}
+fn default_colour() -> Vec3 {
+    Vec3::ONE
+}
+fn default_intensity() -> f32 {
+    1.0
+}
