@@ -1,0 +1,181 @@
+//! Math shared by every layer: glam re-exports, rays, axis-aligned boxes and ray offsets.
+
+pub use glam::{Affine3A, Mat3, Mat3A, Quat, Vec3, Vec3A};
+
+/// A ray `origin + t * dir`; `dir` is unit length for every ray the tracer makes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ray {
+    /// Start point.
+    pub origin: Vec3,
+    /// Direction (unit length in world space).
+    pub dir: Vec3,
+}
+
+impl Ray {
+    /// A ray from `origin` along `dir`.
+    #[inline]
+    pub fn new(origin: Vec3, dir: Vec3) -> Self {
+        Self { origin, dir }
+    }
+
+    /// The point at parameter `t`.
+    #[inline]
+    pub fn at(&self, t: f32) -> Vec3 {
+        self.origin + self.dir * t
+    }
+}
+
+/// An axis-aligned bounding box; empty when `min > max` on some axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Aabb {
+    /// Minimum corner.
+    pub min: Vec3,
+    /// Maximum corner.
+    pub max: Vec3,
+}
+
+impl Aabb {
+    /// The empty box, identity of [`Aabb::union`].
+    pub const EMPTY: Aabb = Aabb { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
+
+    /// The box spanning two corners.
+    #[inline]
+    pub fn new(min: Vec3, max: Vec3) -> Self {
+        Self { min, max }
+    }
+
+    /// The smallest box holding every point.
+    pub fn from_points(points: impl IntoIterator<Item = Vec3>) -> Self {
+        points.into_iter().fold(Self::EMPTY, |b, p| b.grow(p))
+    }
+
+    /// This box grown to hold `p`.
+    #[inline]
+    pub fn grow(self, p: Vec3) -> Self {
+        Self::new(self.min.min(p), self.max.max(p))
+    }
+
+    /// The smallest box holding both.
+    #[inline]
+    pub fn union(self, other: Aabb) -> Self {
+        Self::new(self.min.min(other.min), self.max.max(other.max))
+    }
+
+    /// True when the box holds no point.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.min.cmpgt(self.max).any()
+    }
+
+    /// Size along each axis (zero or negative when empty).
+    #[inline]
+    pub fn extent(&self) -> Vec3 {
+        self.max - self.min
+    }
+
+    /// True when the closed boxes share at least one point.
+    #[inline]
+    pub fn overlaps(&self, other: &Aabb) -> bool {
+        self.min.cmple(other.max).all() && other.min.cmple(self.max).all()
+    }
+
+    /// The box holding this box after an affine map (all eight corners transformed).
+    pub fn transformed(&self, m: &Affine3A) -> Aabb {
+        let corners = (0..8).map(|i| {
+            let pick = |bit: u32, lo: f32, hi: f32| if i & bit == 0 { lo } else { hi };
+            m.transform_point3(Vec3::new(
+                pick(1, self.min.x, self.max.x),
+                pick(2, self.min.y, self.max.y),
+                pick(4, self.min.z, self.max.z),
+            ))
+        });
+        Aabb::from_points(corners)
+    }
+
+    /// Parametric range `[t0, t1]` where the ray is inside the closed box, clipped to `[t_min, t_max]`.
+    ///
+    /// `inv_dir` is `1 / ray.dir` per axis. An axis where the direction is zero (either sign)
+    /// imposes no limit when the origin lies within that slab, walls included, and misses otherwise.
+    #[inline]
+    pub fn clip_ray(&self, ray: &Ray, inv_dir: Vec3, t_min: f32, t_max: f32) -> Option<(f32, f32)> {
+        let (mut t0, mut t1) = (t_min, t_max);
+        for axis in 0..3 {
+            let o = ray.origin[axis];
+            if ray.dir[axis] == 0.0 {
+                if o < self.min[axis] || o > self.max[axis] {
+                    return None;
+                }
+                continue;
+            }
+            let a = (self.min[axis] - o) * inv_dir[axis];
+            let b = (self.max[axis] - o) * inv_dir[axis];
+            t0 = t0.max(a.min(b));
+            t1 = t1.min(a.max(b));
+        }
+        (t0 <= t1).then_some((t0, t1))
+    }
+}
+
+/// Relative size of the offset that lifts a secondary ray's origin off a surface.
+///
+/// f32 intersection points carry an error proportional to their magnitude (a few ulps of the
+/// largest coordinate); 2^-13 of it clears that with a wide margin while staying invisible.
+pub const OFFSET_RELATIVE: f32 = 1.0 / 8192.0;
+
+/// Distance to lift a ray origin off the surface at `p`: proportional to the magnitude of `p`,
+/// floored by `scale_floor` (a tiny fraction of the scene's size) for points near the origin.
+#[inline]
+pub fn offset_distance(p: Vec3, scale_floor: f32) -> f32 {
+    p.abs().max_element().max(scale_floor) * OFFSET_RELATIVE
+}
+
+/// Mirror reflection of incoming direction `d` about unit normal `n`.
+#[inline]
+pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
+    d - 2.0 * d.dot(n) * n
+}
+
+/// Refraction of unit `d` through unit normal `n` (facing against `d`) with `eta = n_i / n_t`;
+/// `None` on total internal reflection.
+#[inline]
+pub fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
+    let cos_i = -d.dot(n);
+    let sin2_t = eta * eta * (1.0 - cos_i * cos_i).max(0.0);
+    if sin2_t > 1.0 {
+        return None;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    Some((eta * d + (eta * cos_i - cos_t) * n).normalize())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clip_ray_handles_axis_parallel_rays_inside_and_outside_slabs() {
+        let b = Aabb::new(Vec3::ZERO, Vec3::ONE);
+        let ray = Ray::new(Vec3::new(0.5, 0.5, -1.0), Vec3::Z);
+        let inv = ray.dir.recip();
+        assert_eq!(b.clip_ray(&ray, inv, 0.0, f32::INFINITY), Some((1.0, 2.0)));
+        let outside = Ray::new(Vec3::new(2.0, 0.5, -1.0), Vec3::Z);
+        assert_eq!(b.clip_ray(&outside, outside.dir.recip(), 0.0, f32::INFINITY), None);
+        // Ray lying exactly in the slab's boundary plane x = 0: 0 * inf = NaN must not poison it.
+        let on_wall = Ray::new(Vec3::new(0.0, 0.5, -1.0), Vec3::Z);
+        assert_eq!(b.clip_ray(&on_wall, on_wall.dir.recip(), 0.0, f32::INFINITY), Some((1.0, 2.0)));
+    }
+
+    #[test]
+    fn refract_obeys_snell_and_reports_total_internal_reflection() {
+        let n = Vec3::Y;
+        let theta_i = 30f32.to_radians();
+        let d = Vec3::new(theta_i.sin(), -theta_i.cos(), 0.0);
+        let t = refract(d, n, 1.0 / 1.5).unwrap();
+        let sin_t = t.x;
+        assert!((theta_i.sin() - 1.5 * sin_t).abs() < 1e-6);
+        // From glass to air past the critical angle asin(1/1.5) = 41.8 degrees.
+        let steep = 45f32.to_radians();
+        let d = Vec3::new(steep.sin(), -steep.cos(), 0.0);
+        assert!(refract(d, n, 1.5).is_none());
+    }
+}
