@@ -238,11 +238,7 @@ pub struct TransformDesc {
 
 impl Default for TransformDesc {
     fn default() -> Self {
-        Self {
-            translate: Vec3::ZERO,
-            rotate_deg: Vec3::ZERO,
-            scale: Vec3::ONE,
-        }
+        Self { translate: Vec3::ZERO, rotate_deg: Vec3::ZERO, scale: Vec3::ONE }
     }
 }
 

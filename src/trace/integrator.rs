@@ -1,0 +1,180 @@
+//! The Whitted integrator: nearest hits through the grid, shadow transmittance, and Phong
+//! shading with recursive reflection and refraction.
+
+use super::scene::TraceScene;
+use super::stats::RayCounts;
+use crate::accel::GridWalk;
+use crate::math::{offset_distance, reflect, refract, Ray, Vec3};
+use crate::store::{Hit, PrimitiveStore};
+
+/// Nearest hit in `(t_min, t_max)`: planes first, then the grid's cells front to back.
+///
+/// A hit found in a cell is final once it lies within that cell's t-range: no later cell can
+/// hold a nearer one. A hit beyond the range (an object reaching into later cells) is kept as
+/// the bound for the rest of the walk, so it is never tested again at a larger t.
+#[inline]
+pub fn closest_hit<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+) -> Option<Hit> {
+    let store = &scene.store;
+    let mut best: Option<Hit> = None;
+    let mut t_best = t_max;
+    for i in 0..store.unbounded_count() {
+        if let Some(h) = store.intersect_unbounded(i, ray, t_min, t_best) {
+            t_best = h.t;
+            best = Some(h);
+        }
+    }
+    for span in GridWalk::new(&scene.grid, ray, t_min, t_best) {
+        if span.t_enter > t_best {
+            break;
+        }
+        for &id in scene.grid.cell_prims(span.cell) {
+            if let Some(h) = store.intersect_bounded(id, ray, t_min, t_best) {
+                t_best = h.t;
+                best = Some(h);
+            }
+        }
+        if t_best <= span.t_exit {
+            break;
+        }
+    }
+    best
+}
+
+/// Nearest hit by testing every object: the reference the grid is checked against.
+pub fn closest_hit_brute<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+) -> Option<Hit> {
+    let store = &scene.store;
+    let mut best: Option<Hit> = None;
+    let mut t_best = t_max;
+    for i in 0..store.unbounded_count() {
+        if let Some(h) = store.intersect_unbounded(i, ray, t_min, t_best) {
+            t_best = h.t;
+            best = Some(h);
+        }
+    }
+    for id in 0..store.bounded_count() {
+        if let Some(h) = store.intersect_bounded(id, ray, t_min, t_best) {
+            t_best = h.t;
+            best = Some(h);
+        }
+    }
+    best
+}
+
+/// Fraction of light that passes along `ray` over `(0, t_max)`: 0 behind an opaque object,
+/// the product of `kt` over every surface crossed otherwise.
+///
+/// Each crossing is counted once: a hit is counted in the cell whose half-open range
+/// `[t_enter, t_exit)` holds it, however many cells its object spans.
+pub fn transmittance<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max: f32) -> f32 {
+    let store = &scene.store;
+    let opaque_only = !scene.effects.transmission;
+    let mut pass = 1.0f32;
+    let mut cross = |h: &Hit| -> bool {
+        let kt = scene.material(store.material(h)).kt;
+        pass *= kt;
+        opaque_only || pass == 0.0
+    };
+    for i in 0..store.unbounded_count() {
+        if let Some(h) = store.intersect_unbounded(i, ray, 0.0, t_max) {
+            if cross(&h) {
+                return 0.0;
+            }
+        }
+    }
+    for span in GridWalk::new(&scene.grid, ray, 0.0, t_max) {
+        let t_hi = span.t_exit.min(t_max);
+        for &id in scene.grid.cell_prims(span.cell) {
+            // Walk this object's crossings inside the span, nearest first.
+            let mut t_lo = 0.0;
+            while let Some(h) = store.intersect_bounded(id, ray, t_lo, t_hi) {
+                if h.t >= span.t_enter && cross(&h) {
+                    return 0.0;
+                }
+                t_lo = h.t;
+            }
+        }
+    }
+    pass
+}
+
+/// Per-ray context: recursion limits and the counters of one worker.
+pub struct PathContext<'a> {
+    /// Maximum reflection/refraction depth.
+    pub max_depth: u32,
+    /// Minimum path weight worth tracing.
+    pub min_contribution: f32,
+    /// Ray counters to add to.
+    pub rays: &'a mut RayCounts,
+}
+
+/// Radiance arriving along `ray`, which already carries path weight `weight` at `depth`.
+pub fn radiance<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    ray: &Ray,
+    depth: u32,
+    weight: f32,
+    ctx: &mut PathContext<'_>,
+) -> Vec3 {
+    let Some(hit) = closest_hit(scene, ray, 0.0, f32::INFINITY) else {
+        return scene.background;
+    };
+    let sp = scene.store.surface(&hit, ray);
+    let m = *scene.material(sp.material);
+    // Shade the side the ray arrives on.
+    let entering = sp.normal.dot(ray.dir) < 0.0;
+    let n = if entering { sp.normal } else { -sp.normal };
+    let eps = offset_distance(sp.point, scene.offset_floor);
+    let above = sp.point + n * eps;
+    let view = -ray.dir;
+
+    // Ambient and direct light.
+    let mut colour = scene.ambient * m.kd;
+    for light in &scene.lights {
+        let (to_light, dist, radiance) = light.towards(sp.point);
+        let n_dot_l = n.dot(to_light);
+        if n_dot_l <= 0.0 {
+            continue;
+        }
+        ctx.rays.shadow += 1;
+        let shadow = Ray::new(above, to_light);
+        let pass = transmittance(scene, &shadow, dist - eps);
+        if pass == 0.0 {
+            continue;
+        }
+        let diffuse = m.kd * n_dot_l;
+        let r_dot_v = reflect(-to_light, n).dot(view).max(0.0);
+        let specular = if m.ks > 0.0 { m.ks * r_dot_v.powf(m.shininess) } else { 0.0 };
+        colour += radiance * pass * (diffuse + Vec3::splat(specular));
+    }
+
+    if depth >= ctx.max_depth {
+        return colour;
+    }
+    // Mirror reflection.
+    if m.kr > 0.0 && weight * m.kr >= ctx.min_contribution {
+        ctx.rays.reflection += 1;
+        let r = Ray::new(above, reflect(ray.dir, n));
+        colour += m.kr * radiance(scene, &r, depth + 1, weight * m.kr, ctx);
+    }
+    // Refraction (Snell), or total internal reflection.
+    if m.kt > 0.0 && weight * m.kt >= ctx.min_contribution {
+        ctx.rays.refraction += 1;
+        let eta = if entering { 1.0 / m.ior } else { m.ior };
+        let next = match refract(ray.dir, n, eta) {
+            Some(dir) => Ray::new(sp.point - n * eps, dir),
+            None => Ray::new(above, reflect(ray.dir, n)),
+        };
+        colour += m.kt * radiance(scene, &next, depth + 1, weight * m.kt, ctx);
+    }
+    colour
+}

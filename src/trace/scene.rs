@@ -1,0 +1,103 @@
+//! The immutable per-frame snapshot the tracer reads: flat arrays, no ECS.
+
+use std::sync::Arc;
+
+use super::light::Light;
+use super::material::Material;
+use crate::accel::{GridBuilder, UniformGrid};
+use crate::camera::Camera;
+use crate::math::Vec3;
+use crate::store::{MaterialId, PlacedObject, PrimitiveStore, SoaStore};
+
+/// The effects a snapshot needs, derived once so the integrator skips absent ones.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Effects {
+    /// Some material reflects (kr > 0).
+    pub reflection: bool,
+    /// Some material transmits (kt > 0): shadow rays must accumulate transmittance.
+    pub transmission: bool,
+}
+
+/// Everything one frame is traced from. `S` is the primitive layout.
+#[derive(Debug, Clone)]
+pub struct TraceScene<S: PrimitiveStore = SoaStore> {
+    /// Flattened geometry.
+    pub store: S,
+    /// Grid over the store's bounded objects (shared between frames until something moves).
+    pub grid: Arc<UniformGrid>,
+    /// Material table indexed by [`MaterialId`].
+    pub materials: Vec<Material>,
+    /// Lights.
+    pub lights: Vec<Light>,
+    /// Camera.
+    pub camera: Camera,
+    /// Colour of rays that escape.
+    pub background: Vec3,
+    /// Ambient light (times kd).
+    pub ambient: Vec3,
+    /// Effects present in this scene.
+    pub effects: Effects,
+    /// Floor of the magnitude used for ray offsets: a tiny fraction of the scene's size.
+    pub offset_floor: f32,
+}
+
+impl<S: PrimitiveStore> TraceScene<S> {
+    /// Assembles a snapshot around an already built grid over `bounded` (in grid-id order).
+    pub fn with_grid(
+        grid: Arc<UniformGrid>,
+        bounded: &[PlacedObject],
+        unbounded: &[PlacedObject],
+        materials: Vec<Material>,
+        lights: Vec<Light>,
+        camera: Camera,
+        background: Vec3,
+        ambient: Vec3,
+    ) -> Self {
+        let effects = Effects {
+            reflection: materials.iter().any(|m| m.kr > 0.0),
+            transmission: materials.iter().any(|m| m.kt > 0.0),
+        };
+        let size = if grid.bounds.is_empty() {
+            0.0
+        } else {
+            grid.bounds.extent().max_element().max(grid.bounds.max.abs().max_element())
+        };
+        let offset_floor = (size.max(camera.position.abs().max_element()) * 1e-3).max(f32::MIN_POSITIVE);
+        Self {
+            store: S::build(bounded, unbounded),
+            grid,
+            materials,
+            lights,
+            camera,
+            background,
+            ambient,
+            effects,
+            offset_floor,
+        }
+    }
+
+    /// Builds a snapshot, its grid included, straight from placed objects (no ECS): planes go to
+    /// the unbounded list, everything else into the grid in the given order.
+    pub fn build(
+        objects: &[PlacedObject],
+        materials: Vec<Material>,
+        lights: Vec<Light>,
+        camera: Camera,
+        background: Vec3,
+        ambient: Vec3,
+        lambda: f32,
+    ) -> Self {
+        let (bounded, unbounded): (Vec<PlacedObject>, Vec<PlacedObject>) =
+            objects.iter().cloned().partition(|o| o.geometry.bounds().is_some());
+        let bounds: Vec<_> = bounded.iter().filter_map(|o| o.geometry.bounds()).collect();
+        let grid =
+            GridBuilder::new(lambda).build(&bounds, |id, cell| bounded[id as usize].geometry.overlaps(cell));
+        Self::with_grid(Arc::new(grid), &bounded, &unbounded, materials, lights, camera, background, ambient)
+    }
+
+    /// The material of a material id.
+    #[inline]
+    pub fn material(&self, id: MaterialId) -> &Material {
+        &self.materials[id.0 as usize]
+    }
+}

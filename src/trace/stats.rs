@@ -1,0 +1,133 @@
+//! Render statistics: rays by kind, time per stage, grid figures.
+
+use std::time::Duration;
+
+use serde::Serialize;
+
+/// Rays traced, by kind.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct RayCounts {
+    /// Primary rays from the camera.
+    pub camera: u64,
+    /// Shadow rays towards lights.
+    pub shadow: u64,
+    /// Mirror-reflection rays.
+    pub reflection: u64,
+    /// Refraction rays (including the reflection that replaces one under total internal reflection).
+    pub refraction: u64,
+}
+
+impl RayCounts {
+    /// All rays.
+    pub fn total(&self) -> u64 {
+        self.camera + self.shadow + self.reflection + self.refraction
+    }
+
+    /// Adds another count.
+    pub fn add(&mut self, o: &RayCounts) {
+        self.camera += o.camera;
+        self.shadow += o.shadow;
+        self.reflection += o.reflection;
+        self.refraction += o.refraction;
+    }
+}
+
+/// Wall time of each stage of a frame, in seconds.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct StageTimes {
+    /// Reading, parsing and validating the scene.
+    pub load: f64,
+    /// Spawning or updating the World (scripts, transforms, bounds).
+    pub world_update: f64,
+    /// Building the grid (zero on frames that reuse it).
+    pub grid_build: f64,
+    /// Flattening the World into the snapshot.
+    pub snapshot: f64,
+    /// Tracing.
+    pub trace: f64,
+    /// Encoding and writing the image.
+    pub write: f64,
+}
+
+/// Figures about the grid a frame was traced with.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct GridStats {
+    /// Cells per axis.
+    pub dims: [u32; 3],
+    /// Objects indexed.
+    pub objects: u32,
+    /// Object references stored (an object counts once per overlapped cell).
+    pub references: u64,
+    /// Bytes of the grid's arrays.
+    pub grid_bytes: u64,
+    /// Bytes of the primitive store.
+    pub store_bytes: u64,
+}
+
+/// Statistics of one rendered frame.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct RenderStats {
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Worker threads used.
+    pub threads: usize,
+    /// Rays by kind.
+    pub rays: RayCounts,
+    /// Seconds per stage.
+    pub times: StageTimes,
+    /// Grid figures.
+    pub grid: GridStats,
+}
+
+impl RenderStats {
+    /// Million rays per second of trace time.
+    pub fn mrays_per_s(&self) -> f64 {
+        if self.times.trace > 0.0 {
+            self.rays.total() as f64 / self.times.trace / 1e6
+        } else {
+            0.0
+        }
+    }
+
+    /// Seconds as `f64` from a duration.
+    pub fn secs(d: Duration) -> f64 {
+        d.as_secs_f64()
+    }
+
+    /// A human-readable multi-line summary.
+    pub fn summary(&self) -> String {
+        let t = &self.times;
+        let r = &self.rays;
+        format!(
+            "image      {}x{}, {} threads\n\
+             rays       {} total: camera {}, shadow {}, reflection {}, refraction {}\n\
+             speed      {:.2} Mrays/s\n\
+             grid       {}x{}x{} cells, {} objects, {} references, {} B grid, {} B store\n\
+             time (ms)  load {:.2}, world {:.2}, grid build {:.2}, snapshot {:.2}, trace {:.2}, write {:.2}",
+            self.width,
+            self.height,
+            self.threads,
+            r.total(),
+            r.camera,
+            r.shadow,
+            r.reflection,
+            r.refraction,
+            self.mrays_per_s(),
+            self.grid.dims[0],
+            self.grid.dims[1],
+            self.grid.dims[2],
+            self.grid.objects,
+            self.grid.references,
+            self.grid.grid_bytes,
+            self.grid.store_bytes,
+            t.load * 1e3,
+            t.world_update * 1e3,
+            t.grid_build * 1e3,
+            t.snapshot * 1e3,
+            t.trace * 1e3,
+            t.write * 1e3,
+        )
+    }
+}
