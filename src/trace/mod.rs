@@ -15,5 +15,5 @@ pub use integrator::{closest_hit, closest_hit_brute};
 pub use light::Light;
 pub use material::Material;
 pub use render::{render, RenderSettings};
-pub use scene::{Effects, TraceScene};
+pub use scene::{Effects, SceneTables, TraceScene};
 pub use stats::{GridStats, RayCounts, RenderStats, StageTimes};

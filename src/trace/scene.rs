@@ -18,6 +18,21 @@ pub struct Effects {
     pub transmission: bool,
 }
 
+/// The non-geometric part of a snapshot: materials, lights, camera and the constant terms.
+#[derive(Debug, Clone)]
+pub struct SceneTables {
+    /// Material table indexed by [`MaterialId`].
+    pub materials: Vec<Material>,
+    /// Lights.
+    pub lights: Vec<Light>,
+    /// Camera.
+    pub camera: Camera,
+    /// Colour of rays that escape.
+    pub background: Vec3,
+    /// Ambient light (times kd).
+    pub ambient: Vec3,
+}
+
 /// Everything one frame is traced from. `S` is the primitive layout.
 #[derive(Debug, Clone)]
 pub struct TraceScene<S: PrimitiveStore = SoaStore> {
@@ -47,12 +62,9 @@ impl<S: PrimitiveStore> TraceScene<S> {
         grid: Arc<UniformGrid>,
         bounded: &[PlacedObject],
         unbounded: &[PlacedObject],
-        materials: Vec<Material>,
-        lights: Vec<Light>,
-        camera: Camera,
-        background: Vec3,
-        ambient: Vec3,
+        tables: SceneTables,
     ) -> Self {
+        let SceneTables { materials, lights, camera, background, ambient } = tables;
         let effects = Effects {
             reflection: materials.iter().any(|m| m.kr > 0.0),
             transmission: materials.iter().any(|m| m.kt > 0.0),
@@ -78,21 +90,13 @@ impl<S: PrimitiveStore> TraceScene<S> {
 
     /// Builds a snapshot, its grid included, straight from placed objects (no ECS): planes go to
     /// the unbounded list, everything else into the grid in the given order.
-    pub fn build(
-        objects: &[PlacedObject],
-        materials: Vec<Material>,
-        lights: Vec<Light>,
-        camera: Camera,
-        background: Vec3,
-        ambient: Vec3,
-        lambda: f32,
-    ) -> Self {
+    pub fn build(objects: &[PlacedObject], tables: SceneTables, lambda: f32) -> Self {
         let (bounded, unbounded): (Vec<PlacedObject>, Vec<PlacedObject>) =
             objects.iter().cloned().partition(|o| o.geometry.bounds().is_some());
         let bounds: Vec<_> = bounded.iter().filter_map(|o| o.geometry.bounds()).collect();
         let grid =
             GridBuilder::new(lambda).build(&bounds, |id, cell| bounded[id as usize].geometry.overlaps(cell));
-        Self::with_grid(Arc::new(grid), &bounded, &unbounded, materials, lights, camera, background, ambient)
+        Self::with_grid(Arc::new(grid), &bounded, &unbounded, tables)
     }
 
     /// The material of a material id.
