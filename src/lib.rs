@@ -13,3 +13,4 @@ pub mod math;
 pub mod scene;
 pub mod store;
 pub mod trace;
+pub mod world;

@@ -2,7 +2,7 @@
 
 pub mod output;
 
-pub use output::{encode_srgb8, linear_to_srgb, write_png, OutputError};
+pub use output::{encode_srgb8, linear_to_srgb, write_atomically, write_png, OutputError};
 
 use crate::math::Vec3;
 

@@ -50,7 +50,7 @@ pub struct PlacedObject {
 }
 
 /// A layout of flattened primitives that the tracer can intersect.
-pub trait PrimitiveStore: Send + Sync + Sized {
+pub trait PrimitiveStore: Send + Sync + Sized + std::fmt::Debug {
     /// Builds the store: `bounded` in grid-id order, `unbounded` (planes) in any order.
     fn build(bounded: &[PlacedObject], unbounded: &[PlacedObject]) -> Self;
     /// Number of bounded objects.

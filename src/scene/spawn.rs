@@ -1,0 +1,100 @@
+//! Spawning a validated [`SceneDesc`] into a bevy_ecs World: resources for the tables and
+//! settings, one entity per object and per light.
+
+use bevy_ecs::prelude::World;
+
+use super::format::{LightDesc, SceneDesc, ShapeDesc};
+use crate::accel::DEFAULT_LAMBDA;
+use crate::geom;
+use crate::store::{MaterialId, PrimitiveStore};
+use crate::trace::{self, Material};
+use crate::world::components::{Light, MaterialRef, Name, Shape, Transform, WorldAabb, WorldShape};
+use crate::world::resources::{CameraRig, Materials, SceneSettings};
+use crate::world::SceneWorld;
+
+/// A World holding the scene: the caller has validated `desc` (see `super::load`).
+pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<S> {
+    let mut world = World::new();
+    let materials = Materials {
+        table: desc
+            .materials
+            .iter()
+            .map(|m| Material {
+                kd: m.kd,
+                ks: m.ks,
+                shininess: m.shininess,
+                kr: m.kr,
+                kt: m.kt,
+                ior: m.ior,
+                glossiness: m.glossiness,
+            })
+            .collect(),
+        names: desc.materials.iter().map(|m| m.name.clone()).collect(),
+    };
+    let c = &desc.camera;
+    world.insert_resource(CameraRig {
+        position: c.position,
+        look_at: c.look_at,
+        up: c.up,
+        fov_y: c.fov_deg.to_radians(),
+    });
+    let s = &desc.settings;
+    world.insert_resource(SceneSettings {
+        width: c.width,
+        height: c.height,
+        max_depth: s.max_depth,
+        min_contribution: s.min_contribution,
+        background: s.background,
+        ambient: s.ambient,
+        seed: s.seed,
+        frame: 0,
+        lambda: DEFAULT_LAMBDA,
+    });
+
+    for (i, object) in desc.objects.iter().enumerate() {
+        let shape = shape_of(&object.shape);
+        let t = &object.transform;
+        let transform = Transform::from_scene(t.translate, t.rotate_deg, t.scale);
+        let placed = shape.place(&transform.to_affine());
+        let aabb = placed.bounds().unwrap_or(crate::math::Aabb::EMPTY);
+        // Validation guarantees the material exists; an unknown name falls back to id 0.
+        let material = materials.id(&object.material).unwrap_or(MaterialId(0));
+        let name = object.name.clone().unwrap_or_else(|| format!("{}_{i}", object.shape.kind()));
+        world.spawn((
+            Name::new(name),
+            Shape(shape),
+            transform,
+            MaterialRef(material),
+            WorldShape(placed),
+            WorldAabb(aabb),
+        ));
+    }
+    for (i, light) in desc.lights.iter().enumerate() {
+        world.spawn((Name::new(format!("light_{i}")), Light(light_of(light))));
+    }
+    world.insert_resource(materials);
+    SceneWorld::new(world)
+}
+
+/// Engine geometry of a shape description.
+pub fn shape_of(desc: &ShapeDesc) -> geom::Shape {
+    match desc {
+        ShapeDesc::Sphere { centre, radius } => geom::Shape::Sphere { centre: *centre, radius: *radius },
+        ShapeDesc::Plane { point, normal } => geom::Shape::Plane { point: *point, normal: *normal },
+        ShapeDesc::Triangle { vertices } => geom::Shape::Triangle { vertices: *vertices },
+        ShapeDesc::Polygon { vertices } => geom::Shape::Polygon { vertices: vertices.clone() },
+        ShapeDesc::Cuboid { min, max } => geom::Shape::Cuboid { min: *min, max: *max },
+    }
+}
+
+/// Engine light of a light description: radiance is colour × intensity, directions unit length.
+pub fn light_of(desc: &LightDesc) -> trace::Light {
+    match *desc {
+        LightDesc::Point { position, colour, intensity } => {
+            trace::Light::Point { position, radiance: colour * intensity }
+        }
+        LightDesc::Directional { direction, colour, intensity } => {
+            trace::Light::Directional { direction: direction.normalize(), radiance: colour * intensity }
+        }
+    }
+}

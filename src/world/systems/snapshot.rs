@@ -1,0 +1,58 @@
+//! `build_snapshot`: flattens the World into an immutable [`TraceScene`].
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use bevy_ecs::prelude::{Entity, Query, Res, ResMut};
+
+use crate::camera::Camera;
+use crate::store::{PlacedObject, PrimitiveStore};
+use crate::trace::{SceneTables, TraceScene};
+use crate::world::components::{Light, MaterialRef, WorldAabb, WorldShape};
+use crate::world::resources::{CameraRig, GridIndex, Materials, SceneSettings, Snapshot, StageClock};
+
+/// Builds this frame's snapshot: bounded objects in grid order, planes in entity order, lights
+/// in entity order, and the material table, camera and settings.
+#[allow(clippy::too_many_arguments)]
+pub fn build_snapshot<S: PrimitiveStore + 'static>(
+    objects: Query<(Entity, &WorldShape, &WorldAabb, &MaterialRef)>,
+    lights: Query<(Entity, &Light)>,
+    index: Res<GridIndex>,
+    materials: Res<Materials>,
+    rig: Res<CameraRig>,
+    settings: Res<SceneSettings>,
+    mut snapshot: ResMut<Snapshot<S>>,
+    mut clock: ResMut<StageClock>,
+) {
+    let started = Instant::now();
+    let placed = |shape: &WorldShape, material: &MaterialRef| PlacedObject {
+        geometry: shape.0.clone(),
+        material: material.0,
+    };
+    // The grid index lists exactly the bounded entities, so `get` cannot fail for them.
+    let bounded: Vec<PlacedObject> = index
+        .entities
+        .iter()
+        .filter_map(|&e| objects.get(e).ok())
+        .map(|(_, shape, _, material)| placed(shape, material))
+        .collect();
+    debug_assert_eq!(bounded.len(), index.entities.len(), "grid index out of date");
+
+    let mut planes: Vec<_> = objects.iter().filter(|(_, _, aabb, _)| !aabb.is_bounded()).collect();
+    planes.sort_unstable_by_key(|(e, ..)| *e);
+    let unbounded: Vec<PlacedObject> =
+        planes.iter().map(|(_, shape, _, material)| placed(shape, material)).collect();
+
+    let mut lights: Vec<_> = lights.iter().collect();
+    lights.sort_unstable_by_key(|(e, _)| *e);
+
+    let tables = SceneTables {
+        materials: materials.table.clone(),
+        lights: lights.iter().map(|(_, l)| l.0).collect(),
+        camera: Camera::look_at(rig.position, rig.look_at, rig.up, rig.fov_y),
+        background: settings.background,
+        ambient: settings.ambient,
+    };
+    snapshot.0 = Some(Arc::new(TraceScene::with_grid(index.grid.clone(), &bounded, &unbounded, tables)));
+    clock.snapshot = started.elapsed().as_secs_f64();
+}
