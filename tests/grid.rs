@@ -482,3 +482,114 @@ fn flat_scene_in_one_plane_keeps_a_small_grid_and_traces_like_brute_force() {
     // About λ·N = 240 cells; a flat box must not blow up to the per-axis cap.
     assert!(scene.grid.cell_count() <= 4 * 240, "dims {:?}", scene.grid.dims);
 }
+
+/// Geometry that lies exactly on the grid's cell walls: boxes whose faces are walls, triangles
+/// in a wall plane, spheres whose extreme point touches a wall. Two anchor spheres fix the
+/// scene's bounds, so a first build tells the walls and the second build has the same ones.
+fn wall_aligned_scene(seed: u64, n: usize) -> (TraceScene, Vec<PlacedObject>, Vec<Vec3>) {
+    let anchors = [sphere(Vec3::splat(-6.0), 0.1), sphere(Vec3::splat(6.0), 0.1)];
+    let mut probe: Vec<PlacedObject> = anchors.to_vec();
+    probe.extend((0..n).map(|_| sphere(Vec3::ZERO, 1.0)));
+    let walls = common::scene(&probe, 2.0).grid.clone();
+    let g = &*walls;
+    let mut r = rng(seed);
+    let mut tangent_points = Vec::new();
+    let mut objects: Vec<PlacedObject> = anchors.to_vec();
+    // Wall indices well inside the anchors' box.
+    let inner = |r: &mut StdRng, a: usize| r.random_range(2..g.dims[a] - 2);
+    for k in 0..n {
+        let shape = match k % 3 {
+            0 => {
+                let lo = [0, 1, 2].map(|a| inner(&mut r, a));
+                let min = Vec3::new(g.plane(0, lo[0]), g.plane(1, lo[1]), g.plane(2, lo[2]));
+                let max = Vec3::new(g.plane(0, lo[0] + 1), g.plane(1, lo[1] + 2), g.plane(2, lo[2] + 1));
+                penumbra::geom::Shape::Cuboid { min, max }
+            }
+            1 => {
+                let a = r.random_range(0..3);
+                let w = g.plane(a, inner(&mut r, a));
+                let c = point_in(&mut r, Vec3::splat(-4.0), Vec3::splat(4.0));
+                let mut vertices = [c, c + unit_vector(&mut r), c + unit_vector(&mut r)];
+                for v in &mut vertices {
+                    v[a] = w;
+                }
+                penumbra::geom::Shape::Triangle { vertices }
+            }
+            _ => {
+                let a = r.random_range(0..3);
+                let w = g.plane(a, inner(&mut r, a));
+                let radius = r.random_range(0.2f32..0.8);
+                let mut centre = point_in(&mut r, Vec3::splat(-4.0), Vec3::splat(4.0));
+                let side = if r.random::<bool>() { 1.0 } else { -1.0 };
+                centre[a] = w - side * radius;
+                let mut top = centre;
+                top[a] += side * radius;
+                tangent_points.push(top);
+                penumbra::geom::Shape::Sphere { centre, radius }
+            }
+        };
+        objects.push(PlacedObject {
+            geometry: shape.place(&penumbra::math::Affine3A::IDENTITY),
+            material: penumbra::store::MaterialId(0),
+        });
+    }
+    let scene = common::scene(&objects, 2.0);
+    assert_eq!((scene.grid.bounds, scene.grid.dims), (g.bounds, g.dims), "walls moved between builds");
+    (scene, objects, tangent_points)
+}
+
+#[test]
+fn geometry_lying_on_cell_walls_is_found_like_brute_force() {
+    let mut tally = Tally::default();
+    for seed in 400..406u64 {
+        let (scene, objects, tops) = wall_aligned_scene(seed, 150);
+        let mut qs = queries(seed, &scene, &objects);
+        // Rays tangent to each sphere at the point that touches a wall, in every direction
+        // inside the tangent plane, from both sides.
+        let mut r = rng(seed + 1);
+        for &p in &tops {
+            for _ in 0..40 {
+                let n = objects
+                    .iter()
+                    .find_map(|o| match o.geometry {
+                        Placed::Sphere { centre, radius }
+                            if ((p - centre).length() - radius).abs() < 1e-5 =>
+                        {
+                            Some((p - centre).normalize())
+                        }
+                        _ => None,
+                    })
+                    .unwrap_or(Vec3::Z);
+                let d = unit_vector(&mut r);
+                let d = (d - n * d.dot(n)).normalize();
+                qs.push(query(Family::Grazing, p - d * r.random_range(0.01f32..5.0), d));
+            }
+        }
+        compare(&scene, &qs, &format!("walls seed {seed}"), &mut tally);
+    }
+    // Boxes sharing a wall face and triangles lying in that wall are hit at bit-identical t:
+    // genuine ties, where either surface is the right answer.
+    assert_clean(&tally, true);
+}
+
+#[test]
+fn transmittance_through_geometry_on_cell_walls_counts_each_crossing_once() {
+    let materials = vec![Material { kt: 0.5, ..Material::default() }];
+    let mut bad = Vec::new();
+    let mut rays = 0;
+    for seed in 410..414u64 {
+        let (scene, objects, _) = wall_aligned_scene(seed, 150);
+        let mut scene = scene;
+        scene.materials = materials.clone();
+        scene.effects.transmission = true;
+        for q in queries(seed, &scene, &objects) {
+            let t_max = if q.t_max.is_finite() { q.t_max } else { 100.0 };
+            let (g, b) = (transmittance(&scene, &q.ray, t_max), transmittance_brute(&scene, &q.ray, t_max));
+            rays += 1;
+            if (g - b).abs() > 1e-5 * b {
+                bad.push(format!("seed {seed} {:?} {:?} t_max {t_max}: grid {g} brute {b}", q.family, q.ray));
+            }
+        }
+    }
+    assert!(bad.is_empty(), "{} of {rays} differ:\n{}", bad.len(), bad[..bad.len().min(8)].join("\n"));
+}
