@@ -83,7 +83,7 @@ fn axis_dir(rng: &mut StdRng, axis: usize) -> Vec3 {
 
 /// All families of hard rays for one scene.
 fn queries(seed: u64, scene: &TraceScene, objects: &[PlacedObject]) -> Vec<Query> {
-    let mut rng = rng(seed ^ 0x5eed_0f_4a75);
+    let mut rng = rng(seed ^ 0x005e_ed0f_4a75);
     let grid = &*scene.grid;
     let b = grid.bounds;
     let centre = (b.min + b.max) * 0.5;
