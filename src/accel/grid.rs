@@ -72,19 +72,40 @@ impl UniformGrid {
         }
     }
 
-    /// The range of cells (inclusive) covered by a box, clamped to the grid.
+    /// The range of cells (inclusive) whose closed boxes touch the closed box `b`, clamped to
+    /// the grid. Decided against the same walls as [`UniformGrid::cell_bounds`]: a box whose
+    /// face lies exactly on a wall gets the cells on both sides.
     pub fn cell_range(&self, b: &Aabb) -> ([u32; 3], [u32; 3]) {
-        let lo = self.cell_coords(b.min);
+        let mut lo = self.cell_coords(b.min);
         let hi = self.cell_coords(b.max);
+        for (axis, l) in lo.iter_mut().enumerate() {
+            // `cell_coords` is half-open; the cell below also touches a box starting on its wall.
+            if *l > 0 && b.min[axis] <= self.plane(axis, *l) {
+                *l -= 1;
+            }
+        }
         (lo, hi)
     }
 
-    /// The cell holding point `p`, clamped into the grid.
+    /// The cell holding point `p`, clamped into the grid: on each axis the `i` with
+    /// `plane(i) <= p < plane(i + 1)`, decided against the walls themselves so that it agrees
+    /// with [`UniformGrid::cell_bounds`] and the DDA's crossings whatever the rounding of
+    /// `(p - min) / size`.
     #[inline]
     pub fn cell_coords(&self, p: Vec3) -> [u32; 3] {
         let rel = (p - self.bounds.min) * self.inv_cell_size;
-        let clamp = |v: f32, d: u32| (v.floor().max(0.0) as u32).min(d - 1);
-        [clamp(rel.x, self.dims[0]), clamp(rel.y, self.dims[1]), clamp(rel.z, self.dims[2])]
+        let mut out = [0u32; 3];
+        for axis in 0..3 {
+            let d = self.dims[axis];
+            let mut c = (rel[axis].floor().max(0.0) as u32).min(d - 1);
+            if c > 0 && p[axis] < self.plane(axis, c) {
+                c -= 1;
+            } else if c + 1 < d && p[axis] >= self.plane(axis, c + 1) {
+                c += 1;
+            }
+            out[axis] = c;
+        }
+        out
     }
 
     /// Bytes held by the grid's arrays.
@@ -95,5 +116,53 @@ impl UniformGrid {
     /// Total number of stored references (an object counts once per overlapped cell).
     pub fn reference_count(&self) -> usize {
         self.prim_ids.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::GridBuilder;
+
+    fn grid() -> UniformGrid {
+        // Awkward bounds so `(p - min) * inv_cell_size` rounds differently from the walls.
+        let b = [Aabb::new(Vec3::splat(-6.1), Vec3::splat(6.1))];
+        GridBuilder::new(343.0).build(&b, |_, _| true)
+    }
+
+    #[test]
+    fn cell_coords_agree_with_the_walls_for_points_exactly_on_them() {
+        let g = grid();
+        for axis in 0..3 {
+            for i in 0..g.dims[axis] {
+                let mut p = Vec3::splat(0.1);
+                p[axis] = g.plane(axis, i);
+                assert_eq!(g.cell_coords(p)[axis], i, "wall {i} on axis {axis}");
+                let below =
+                    f32::from_bits(if p[axis] > 0.0 { p[axis].to_bits() - 1 } else { p[axis].to_bits() + 1 });
+                p[axis] = below;
+                if i > 0 {
+                    assert_eq!(g.cell_coords(p)[axis], i - 1, "just below wall {i} on axis {axis}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_box_with_a_face_on_a_wall_touches_the_cells_on_both_sides() {
+        // Regression: `cell_range` used the rounded `cell_coords`, so a box whose min face lay
+        // exactly on a wall was stored only above it, and a ray leaving the box through that
+        // face (crossing at exactly the span boundary) found it in no cell.
+        let g = grid();
+        for axis in 0..3 {
+            for i in 1..g.dims[axis] - 1 {
+                let mut min = Vec3::splat(0.1);
+                min[axis] = g.plane(axis, i);
+                let mut max = min + Vec3::splat(0.2);
+                max[axis] = g.plane(axis, i + 1);
+                let (lo, hi) = g.cell_range(&Aabb::new(min, max));
+                assert_eq!((lo[axis], hi[axis]), (i - 1, i + 1), "wall {i} on axis {axis}");
+            }
+        }
     }
 }

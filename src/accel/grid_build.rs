@@ -7,8 +7,10 @@ use rayon::prelude::*;
 use super::grid::UniformGrid;
 use crate::math::{Aabb, Vec3};
 
-/// Default grid density λ (cells per object), chosen by `benches/grid.rs` on random spheres.
-pub const DEFAULT_LAMBDA: f32 = 4.0;
+/// Default grid density λ (cells per object), chosen by `benches/grid.rs` (`grid_lambda`):
+/// build + trace of 10k objects is best at λ = 1 for spheres and λ = 4 for triangles; λ = 2 is
+/// within ~5% of the best on both.
+pub const DEFAULT_LAMBDA: f32 = 2.0;
 
 /// Cap on cells per axis and in total, so a pathological scene cannot exhaust memory.
 const MAX_DIM: u32 = 1024;
@@ -116,14 +118,33 @@ fn pad(b: Aabb) -> Aabb {
 }
 
 /// Cells per axis: cubic-ish cells with about `lambda * n` cells in total.
+///
+/// An axis too thin to hold one cube of the target size gets a single cell, and the budget is
+/// spread over the remaining axes (a flat scene gets a 2D grid of about `lambda * n` cells,
+/// not the per-axis cap squared).
 fn resolution(b: &Aabb, n: usize, lambda: f32) -> [u32; 3] {
     let e = b.extent();
-    let volume = (e.x as f64) * (e.y as f64) * (e.z as f64);
     let target = (lambda as f64 * n as f64).clamp(1.0, MAX_CELLS as f64);
-    let per_unit = (target / volume).cbrt();
-    let mut dims = [0u32; 3];
-    for (d, &len) in dims.iter_mut().zip(e.as_ref()) {
-        *d = ((len as f64 * per_unit).round() as u32).clamp(1, MAX_DIM);
+    let mut active = [true; 3];
+    let mut dims = [1u32; 3];
+    loop {
+        let live: Vec<usize> = (0..3).filter(|&a| active[a]).collect();
+        if live.is_empty() {
+            break;
+        }
+        let volume: f64 = live.iter().map(|&a| e[a] as f64).product();
+        let per_unit = (target / volume).powf(1.0 / live.len() as f64);
+        // Drop the axes that cannot hold one cell, then share the budget again.
+        let thin: Vec<usize> = live.iter().copied().filter(|&a| e[a] as f64 * per_unit < 1.0).collect();
+        if thin.is_empty() {
+            for a in live {
+                dims[a] = ((e[a] as f64 * per_unit).round() as u32).clamp(1, MAX_DIM);
+            }
+            break;
+        }
+        for a in thin {
+            active[a] = false;
+        }
     }
     while dims.iter().map(|&d| d as usize).product::<usize>() > MAX_CELLS {
         let axis = (0..3).max_by_key(|&i| dims[i]).unwrap_or(0);
@@ -195,6 +216,26 @@ mod tests {
         let grid = GridBuilder::new(4.0).build(&bounds, |_, _| true);
         let cells = grid.cell_count() as f32;
         assert!((2000.0..8000.0).contains(&cells), "cells = {cells}");
+    }
+
+    #[test]
+    fn flat_scene_gets_a_flat_grid_of_about_lambda_n_cells() {
+        // Regression: a scene in one plane has a padded thickness of ~1e-5 of its size, so the
+        // cube root of λN / volume was huge and the two wide axes hit the 1024 cap (1M cells
+        // for 60 objects). Thin axes now get one cell and the budget goes to the others.
+        let bounds: Vec<Aabb> = (0..60)
+            .map(|i| {
+                let c = Vec3::new((i % 8) as f32, (i / 8) as f32, 0.5);
+                Aabb::new(c, c + Vec3::new(0.5, 0.5, 0.0))
+            })
+            .collect();
+        let grid = GridBuilder::new(4.0).build(&bounds, |_, _| true);
+        assert_eq!(grid.dims[2], 1);
+        let cells = grid.cell_count() as f32;
+        assert!((120.0..480.0).contains(&cells), "dims = {:?}", grid.dims);
+        // A thin slab (much thinner than a cube cell) is also one layer deep.
+        let slab = [Aabb::new(Vec3::ZERO, Vec3::new(100.0, 100.0, 0.01))];
+        assert_eq!(resolution(&pad(slab[0]), 1000, 4.0)[2], 1);
     }
 
     #[test]

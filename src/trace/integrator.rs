@@ -73,8 +73,10 @@ pub fn closest_hit_brute<S: PrimitiveStore>(
 /// Fraction of light that passes along `ray` over `(0, t_max)`: 0 behind an opaque object,
 /// the product of `kt` over every surface crossed otherwise.
 ///
-/// Each crossing is counted once: a hit is counted in the cell whose half-open range
-/// `[t_enter, t_exit)` holds it, however many cells its object spans.
+/// Each object is handled whole the first time the walk meets it: all its crossings in
+/// `(0, t_max)` are counted then, and a per-ray list of visited ids skips it in later cells.
+/// Counting a crossing in "the cell whose t-range holds it" is not enough: a crossing exactly on
+/// a wall, or rounded across one, can land in a span whose cell does not store the object.
 pub fn transmittance<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max: f32) -> f32 {
     let store = &scene.store;
     let opaque_only = !scene.effects.transmission;
@@ -91,13 +93,29 @@ pub fn transmittance<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max:
             }
         }
     }
-    for span in GridWalk::new(&scene.grid, ray, 0.0, t_max) {
-        let t_hi = span.t_exit.min(t_max);
+    let walk = GridWalk::new(&scene.grid, ray, 0.0, t_max);
+    if opaque_only {
+        // Any crossing anywhere in (0, t_max) blocks the light: no bookkeeping needed.
+        for span in walk {
+            for &id in scene.grid.cell_prims(span.cell) {
+                if store.intersect_bounded(id, ray, 0.0, t_max).is_some() {
+                    return 0.0;
+                }
+            }
+        }
+        return pass;
+    }
+    let mut visited: Vec<u32> = Vec::new();
+    for span in walk {
         for &id in scene.grid.cell_prims(span.cell) {
-            // Walk this object's crossings inside the span, nearest first.
+            if visited.contains(&id) {
+                continue;
+            }
+            visited.push(id);
+            // All of this object's crossings, nearest first.
             let mut t_lo = 0.0;
-            while let Some(h) = store.intersect_bounded(id, ray, t_lo, t_hi) {
-                if h.t >= span.t_enter && cross(&h) {
+            while let Some(h) = store.intersect_bounded(id, ray, t_lo, t_max) {
+                if cross(&h) {
                     return 0.0;
                 }
                 t_lo = h.t;

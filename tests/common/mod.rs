@@ -1,0 +1,171 @@
+//! Shared, seeded fixtures for the integration tests and benches (in the spirit of bvh's
+//! `testbase.rs`): random scenes as `Vec<PlacedObject>`, simple tables, and snapshot builders.
+//!
+//! Every generator is a pure function of its seed, so a failure names the seed that shows it.
+
+use penumbra::camera::Camera;
+use penumbra::geom::Shape;
+use penumbra::math::{Affine3A, Quat, Vec3};
+use penumbra::store::{MaterialId, PlacedObject};
+use penumbra::trace::{Material, SceneTables, TraceScene};
+use rand::rngs::StdRng;
+use rand::{RngExt, SeedableRng};
+
+/// The seeded generator every fixture uses.
+#[allow(dead_code)]
+pub fn rng(seed: u64) -> StdRng {
+    StdRng::seed_from_u64(seed)
+}
+
+/// A uniformly random point in the box `[lo, hi]`.
+#[allow(dead_code)]
+pub fn point_in(rng: &mut StdRng, lo: Vec3, hi: Vec3) -> Vec3 {
+    Vec3::new(
+        lo.x + (hi.x - lo.x) * rng.random::<f32>(),
+        lo.y + (hi.y - lo.y) * rng.random::<f32>(),
+        lo.z + (hi.z - lo.z) * rng.random::<f32>(),
+    )
+}
+
+/// A uniformly random unit vector (rejection sampling in the unit ball).
+#[allow(dead_code)]
+pub fn unit_vector(rng: &mut StdRng) -> Vec3 {
+    loop {
+        let v = point_in(rng, Vec3::splat(-1.0), Vec3::ONE);
+        let l2 = v.length_squared();
+        if l2 > 1e-4 && l2 <= 1.0 {
+            return v / l2.sqrt();
+        }
+    }
+}
+
+fn object(shape: Shape, to_world: &Affine3A, material: u32) -> PlacedObject {
+    PlacedObject { geometry: shape.place(to_world), material: MaterialId(material) }
+}
+
+/// `n` spheres with centres uniform in `[-extent/2, extent/2]³` and radii a random fraction
+/// (0.1–0.4) of the mean spacing `extent / ∛n`, so density stays similar for every `n`.
+#[allow(dead_code)]
+pub fn random_spheres(seed: u64, n: usize, extent: f32) -> Vec<PlacedObject> {
+    let mut rng = rng(seed);
+    let half = Vec3::splat(0.5 * extent);
+    let spacing = extent / (n.max(1) as f32).cbrt();
+    (0..n)
+        .map(|_| {
+            let centre = point_in(&mut rng, -half, half);
+            let radius = spacing * rng.random_range(0.1f32..0.4);
+            object(Shape::Sphere { centre, radius }, &Affine3A::IDENTITY, 0)
+        })
+        .collect()
+}
+
+/// `n` random triangles in `[-extent/2, extent/2]³`, each about one mean spacing across.
+#[allow(dead_code)]
+pub fn random_triangles(seed: u64, n: usize, extent: f32) -> Vec<PlacedObject> {
+    let mut rng = rng(seed);
+    let half = Vec3::splat(0.5 * extent);
+    let spacing = extent / (n.max(1) as f32).cbrt();
+    (0..n)
+        .map(|_| {
+            let c = point_in(&mut rng, -half, half);
+            let vertices =
+                [0; 3].map(|_| c + unit_vector(&mut rng) * spacing * rng.random_range(0.2f32..0.6));
+            object(Shape::Triangle { vertices }, &Affine3A::IDENTITY, 0)
+        })
+        .collect()
+}
+
+/// A random convex polygon: `k` points on an ellipse in a random plane around `c`.
+fn random_polygon(rng: &mut StdRng, c: Vec3, size: f32) -> Shape {
+    let n = unit_vector(rng);
+    let u = n.any_orthonormal_vector();
+    let v = n.cross(u);
+    let (a, b) = (size * rng.random_range(0.3f32..1.0), size * rng.random_range(0.3f32..1.0));
+    let k = rng.random_range(4usize..8);
+    let phase = rng.random::<f32>() * std::f32::consts::TAU;
+    let vertices = (0..k)
+        .map(|i| {
+            let ang = phase + i as f32 / k as f32 * std::f32::consts::TAU;
+            c + u * (a * ang.cos()) + v * (b * ang.sin())
+        })
+        .collect();
+    Shape::Polygon { vertices }
+}
+
+/// A mixed scene of `n` bounded objects in `[-extent/2, extent/2]³`: spheres, triangles,
+/// polygons and rotated, non-uniformly scaled boxes (all placed through [`Shape::place`]),
+/// plus one or two planes outside the cloud. Materials cycle over `materials` ids.
+#[allow(dead_code)]
+pub fn random_mixed_in(seed: u64, n: usize, extent: f32, materials: u32) -> Vec<PlacedObject> {
+    let mut rng = rng(seed);
+    let half = Vec3::splat(0.5 * extent);
+    let size = extent / (n.max(1) as f32).cbrt();
+    let mut objects: Vec<PlacedObject> = (0..n)
+        .map(|_| {
+            let c = point_in(&mut rng, -half, half);
+            let m = rng.random_range(0..materials.max(1));
+            match rng.random_range(0..4) {
+                0 => {
+                    let radius = size * rng.random_range(0.1f32..0.5);
+                    object(Shape::Sphere { centre: c, radius }, &Affine3A::IDENTITY, m)
+                }
+                1 => {
+                    let vertices =
+                        [0; 3].map(|_| c + unit_vector(&mut rng) * size * rng.random_range(0.2f32..0.8));
+                    object(Shape::Triangle { vertices }, &Affine3A::IDENTITY, m)
+                }
+                2 => object(random_polygon(&mut rng, c, size * 0.6), &Affine3A::IDENTITY, m),
+                _ => {
+                    let axis = unit_vector(&mut rng);
+                    let rot = Quat::from_axis_angle(axis, rng.random::<f32>() * std::f32::consts::TAU);
+                    let scale = Vec3::new(
+                        rng.random_range(0.5f32..2.0),
+                        rng.random_range(0.5f32..2.0),
+                        rng.random_range(0.5f32..2.0),
+                    );
+                    let to_world = Affine3A::from_scale_rotation_translation(scale * size * 0.3, rot, c);
+                    object(Shape::Cuboid { min: Vec3::splat(-0.5), max: Vec3::splat(0.5) }, &to_world, m)
+                }
+            }
+        })
+        .collect();
+    // A floor below the cloud, and sometimes a tilted back wall.
+    let floor = Shape::Plane { point: Vec3::new(0.0, -0.75 * extent, 0.0), normal: Vec3::Y };
+    objects.push(object(floor, &Affine3A::IDENTITY, 0));
+    if rng.random::<bool>() {
+        let normal = Vec3::new(0.2, 0.1, -1.0);
+        let wall = Shape::Plane { point: Vec3::new(0.0, 0.0, 1.5 * extent), normal };
+        objects.push(object(wall, &Affine3A::IDENTITY, 0));
+    }
+    objects
+}
+
+/// [`random_mixed_in`] over a 10-unit cloud with a single material.
+#[allow(dead_code)]
+pub fn random_mixed(seed: u64, n: usize) -> Vec<PlacedObject> {
+    random_mixed_in(seed, n, 10.0, 1)
+}
+
+/// Tables with the given materials, no lights, and a camera looking at the origin from `eye`.
+#[allow(dead_code)]
+pub fn tables_with(materials: Vec<Material>, eye: Vec3) -> SceneTables {
+    SceneTables {
+        materials,
+        lights: Vec::new(),
+        camera: Camera::look_at(eye, Vec3::ZERO, Vec3::Y, 60f32.to_radians()),
+        background: Vec3::ZERO,
+        ambient: Vec3::ZERO,
+    }
+}
+
+/// One default (opaque) material, no lights, camera on +z.
+#[allow(dead_code)]
+pub fn simple_tables() -> SceneTables {
+    tables_with(vec![Material::default()], Vec3::new(0.0, 0.0, 30.0))
+}
+
+/// A snapshot of `objects` with [`simple_tables`] and grid density `lambda`.
+#[allow(dead_code)]
+pub fn scene(objects: &[PlacedObject], lambda: f32) -> TraceScene {
+    TraceScene::build(objects, simple_tables(), lambda)
+}
