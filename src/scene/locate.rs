@@ -171,11 +171,14 @@ pub fn path_at(text: &str, line: usize, col: usize) -> FieldPath {
     path
 }
 
-/// The item of a group whose source contains `at`, with its path segment.
+/// The item of a group whose source contains `at`, with its path segment. In a struct (a
+/// group with named fields) an unnamed item is a syntax error, not an element, and is skipped.
 fn enclosing_item(items: &[Item], at: Pos) -> Option<(Segment, &Item)> {
+    let is_struct = items.iter().any(|item| item.key.is_some());
     let mut index = 0;
     for item in items {
-        if item.start.before_eq(at) && at.before_eq(item.end) {
+        let named_if_struct = item.key.is_some() || !is_struct;
+        if named_if_struct && item.start.before_eq(at) && at.before_eq(item.end) {
             let segment = match &item.key {
                 Some(key) => Segment::Field(key.clone()),
                 None => Segment::Index(index),
