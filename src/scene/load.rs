@@ -135,17 +135,24 @@ fn wrong_type(
 ) -> SceneError {
     let position = position_of(text, at).unwrap_or(start);
     let expected = expected_type(at).map_or_else(|| code.to_string(), str::to_owned);
-    let mut rule = match value_source(text, at).and_then(|v| v.lines().next()) {
-        Some(found) if found.chars().count() > 40 => {
-            format!("expected {expected}, found `{}...`", found.chars().take(40).collect::<String>())
-        }
-        Some(found) => format!("expected {expected}, found `{found}`"),
+    let mut rule = match value_source(text, at) {
+        Some(found) => format!("expected {expected}, found `{}`", excerpt(found)),
         None => format!("expected {expected}"),
     };
     if *code == RonError::IntegerOutOfBounds {
         rule.push_str(" (out of range)");
     }
     invalid(origin, position, at, rule)
+}
+
+/// The first line of a value, cut to 40 characters, with `...` if anything was left out.
+fn excerpt(source: &str) -> String {
+    let first_line = source.lines().next().unwrap_or_default();
+    let mut shown: String = first_line.chars().take(40).collect();
+    if shown.len() < source.len() {
+        shown.push_str("...");
+    }
+    shown
 }
 
 /// Whether `position` lies after the start of the single-line value at `path`: ron stopped
@@ -225,6 +232,13 @@ mod tests {
         assert_eq!(expect("materials[0].kd[1]"), Some("a number"));
         assert_eq!(expect("materials[0].ks"), Some("a number"));
         assert_eq!(expect(""), None);
+    }
+
+    #[test]
+    fn excerpts_mark_what_they_leave_out() {
+        assert_eq!(excerpt("6.4"), "6.4");
+        assert_eq!(excerpt("(\n  1, 2)"), "(...");
+        assert_eq!(excerpt(&"é".repeat(50)), format!("{}...", "é".repeat(40)));
     }
 
     #[test]
