@@ -1,6 +1,6 @@
 //! Scene files: the RON format, its validation with file positions, and loading.
 //!
-//! A scene is a RON file deserialized into [`SceneDesc`] (the schema lives in [`format`] and
+//! A scene is a RON file deserialized into [`SceneDesc`] (the schema lives in [`format`](mod@format) and
 //! `docs/scene-format.md`). [`load_scene`] and [`parse_scene`] parse and [`validate`] it and
 //! report any problem as a [`SceneError`] naming the file, line, column and field:
 //!
