@@ -1,6 +1,26 @@
 //! Scene files: the RON format, its validation with file positions, and loading.
+//!
+//! A scene is a RON file deserialized into [`SceneDesc`] (the schema lives in [`format`](mod@format) and
+//! `docs/scene-format.md`). [`load_scene`] and [`parse_scene`] parse and [`validate`] it and
+//! report any problem as a [`SceneError`] naming the file, line, column and field:
+//!
+//! ```text
+//! scenes/bad.ron:12:51: field `objects[0].shape.radius`: must be > 0, got -1
+//! ```
+//!
+//! [`locate`] maps field paths to source positions, since ron keeps none for values after
+//! deserialization. [`default_scene`] is the built-in `scenes/default.ron`. [`spawn_world`]
+//! turns a validated scene into a World of entities.
+//!
+//! [`validate`]: validate::validate
+pub mod error;
 pub mod format;
+pub mod load;
+pub mod locate;
 pub mod spawn;
+pub mod validate;
 
+pub use error::SceneError;
 pub use format::*;
+pub use load::{default_scene, load_scene, parse_scene};
 pub use spawn::spawn_world;

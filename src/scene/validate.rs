@@ -1,0 +1,470 @@
+//! The rules a [`SceneDesc`] must satisfy beyond what serde checks: ranges, geometry and
+//! references between materials and objects.
+//!
+//! [`validate`] stops at the first [`Violation`] in document order (camera, settings,
+//! materials, lights, objects; fields in schema order) and names it by [`FieldPath`], which
+//! [`super::load`] turns into a line and column. Every rule text says what is wrong and what
+//! is allowed, e.g. `must be in [0, 1], got 1.2`. Geometric tolerances are relative to the
+//! shape's own size, so a scene means the same at any scale.
+
+use std::collections::HashMap;
+use std::f64::consts::{PI, TAU};
+use std::fmt;
+
+use glam::{DVec3, Vec3};
+
+use super::format::{CameraDesc, LightDesc, MaterialDesc, ObjectDesc, SceneDesc, SettingsDesc};
+use super::format::{ShapeDesc, TransformDesc};
+use super::locate::FieldPath;
+
+/// Largest accepted image width or height, in pixels.
+pub const MAX_IMAGE_SIZE: u32 = 16384;
+/// Largest accepted `settings.max_depth`.
+pub const MAX_DEPTH: u32 = 64;
+/// Relative tolerance for degeneracy: a triangle or polygon is degenerate when its height is
+/// below this fraction of its size; `up` is parallel to the view when the sine of the angle
+/// between them is below it.
+pub const DEGENERATE_TOLERANCE: f64 = 1e-6;
+/// Relative tolerance for polygon planarity: each vertex may be this fraction of the
+/// polygon's size away from its plane.
+pub const PLANARITY_TOLERANCE: f64 = 1e-5;
+/// Relative tolerance for a sphere's uniform scale.
+pub const UNIFORM_SCALE_TOLERANCE: f32 = 1e-5;
+
+/// The first rule a scene breaks: which field, and what is wrong with it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Violation {
+    /// The offending field, e.g. `objects[2].shape.radius`.
+    pub path: FieldPath,
+    /// What is wrong and what is allowed, e.g. `must be > 0, got -1`.
+    pub rule: String,
+}
+
+impl fmt::Display for Violation {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "field `{}`: {}", self.path, self.rule)
+    }
+}
+
+impl std::error::Error for Violation {}
+
+type Check = Result<(), Violation>;
+
+/// Checks every rule of the scene format, returning the first violation in document order.
+///
+/// # Examples
+/// ```
+/// use penumbra::scene::{default_scene, validate::validate};
+/// let mut scene = default_scene();
+/// assert!(validate(&scene).is_ok());
+/// scene.materials[1].ks = 1.2;
+/// let violation = validate(&scene).unwrap_err();
+/// assert_eq!(violation.path.to_string(), "materials[1].ks");
+/// assert_eq!(violation.rule, "must be in [0, 1], got 1.2");
+/// ```
+pub fn validate(scene: &SceneDesc) -> Check {
+    let root = FieldPath::root();
+    camera(&root.clone().field("camera"), &scene.camera)?;
+    settings(&root.clone().field("settings"), &scene.settings)?;
+    let mut names: HashMap<&str, usize> = HashMap::new();
+    for (i, material_desc) in scene.materials.iter().enumerate() {
+        let path = root.clone().field("materials").index(i);
+        material(&path, material_desc)?;
+        if let Some(first) = names.insert(&material_desc.name, i) {
+            let rule = format!(
+                "duplicate material name `{}`, already used by materials[{first}]",
+                material_desc.name
+            );
+            return fail(&path, "name", rule);
+        }
+    }
+    for (i, light_desc) in scene.lights.iter().enumerate() {
+        light(&root.clone().field("lights").index(i), light_desc)?;
+    }
+    let mut object_names: HashMap<&str, usize> = HashMap::new();
+    for (i, object) in scene.objects.iter().enumerate() {
+        let path = root.clone().field("objects").index(i);
+        if let Some(name) = &object.name {
+            if name.trim().is_empty() {
+                return fail(&path, "name", "must not be empty".into());
+            }
+            if let Some(first) = object_names.insert(name, i) {
+                return fail(
+                    &path,
+                    "name",
+                    format!("duplicate object name `{name}`, already used by objects[{first}]"),
+                );
+            }
+        }
+        self::object(&path, object, &scene.materials)?;
+    }
+    Ok(())
+}
+
+fn camera(path: &FieldPath, camera: &CameraDesc) -> Check {
+    finite_vec(path, "position", camera.position)?;
+    finite_vec(path, "look_at", camera.look_at)?;
+    let view = camera.look_at.as_dvec3() - camera.position.as_dvec3();
+    if view == DVec3::ZERO {
+        return fail(
+            path,
+            "look_at",
+            format!("must differ from `position`, both are {}", vec(camera.look_at)),
+        );
+    }
+    finite_vec(path, "up", camera.up)?;
+    if camera.up == Vec3::ZERO {
+        return fail(path, "up", "must be non-zero, got (0, 0, 0)".into());
+    }
+    let sine = camera.up.as_dvec3().normalize().cross(view.normalize()).length();
+    if sine < DEGENERATE_TOLERANCE {
+        let rule = format!(
+            "must not be parallel to the view direction `look_at - position` = {}, got {}",
+            vec(view.as_vec3()),
+            vec(camera.up)
+        );
+        return fail(path, "up", rule);
+    }
+    finite(path, "fov_deg", camera.fov_deg)?;
+    if !(camera.fov_deg > 0.0 && camera.fov_deg < 180.0) {
+        return fail(path, "fov_deg", format!("must be in (0, 180) degrees, got {}", camera.fov_deg));
+    }
+    for (name, size) in [("width", camera.width), ("height", camera.height)] {
+        if !(1..=MAX_IMAGE_SIZE).contains(&size) {
+            return fail(path, name, format!("must be in 1..={MAX_IMAGE_SIZE} pixels, got {size}"));
+        }
+    }
+    Ok(())
+}
+
+fn settings(path: &FieldPath, settings: &SettingsDesc) -> Check {
+    if settings.max_depth > MAX_DEPTH {
+        return fail(path, "max_depth", format!("must be in 0..={MAX_DEPTH}, got {}", settings.max_depth));
+    }
+    unit_interval(path, "min_contribution", settings.min_contribution)?;
+    non_negative_channels(path, "background", settings.background)?;
+    non_negative_channels(path, "ambient", settings.ambient)
+}
+
+fn material(path: &FieldPath, material: &MaterialDesc) -> Check {
+    if material.name.trim().is_empty() {
+        return fail(path, "name", "must not be empty".into());
+    }
+    finite_vec(path, "kd", material.kd)?;
+    if let Some((i, value)) = first_component(material.kd, |c| !(0.0..=1.0).contains(&c)) {
+        return fail(
+            path,
+            "kd",
+            format!("must be in [0, 1] in every channel, got {} = {value}", CHANNELS[i]),
+        );
+    }
+    unit_interval(path, "ks", material.ks)?;
+    finite(path, "shininess", material.shininess)?;
+    if material.shininess < 0.0 {
+        return fail(path, "shininess", format!("must be >= 0, got {}", material.shininess));
+    }
+    unit_interval(path, "kr", material.kr)?;
+    unit_interval(path, "kt", material.kt)?;
+    // Allow for rounding in sums such as 0.08 + 0.92.
+    if material.kr + material.kt > 1.0 + 4.0 * f32::EPSILON {
+        let (kr, kt) = (material.kr, material.kt);
+        return fail(path, "kt", format!("`kr + kt` must be <= 1, got {kr} + {kt} = {}", kr + kt));
+    }
+    finite(path, "ior", material.ior)?;
+    if material.ior <= 0.0 {
+        return fail(path, "ior", format!("must be > 0, got {}", material.ior));
+    }
+    unit_interval(path, "glossiness", material.glossiness)
+}
+
+fn light(path: &FieldPath, light: &LightDesc) -> Check {
+    let (colour, intensity) = match light {
+        LightDesc::Point { position, colour, intensity } => {
+            finite_vec(path, "position", *position)?;
+            (colour, intensity)
+        }
+        LightDesc::Directional { direction, colour, intensity } => {
+            finite_vec(path, "direction", *direction)?;
+            if *direction == Vec3::ZERO {
+                return fail(path, "direction", "must be non-zero, got (0, 0, 0)".into());
+            }
+            (colour, intensity)
+        }
+    };
+    non_negative_channels(path, "colour", *colour)?;
+    finite(path, "intensity", *intensity)?;
+    if *intensity < 0.0 {
+        return fail(path, "intensity", format!("must be >= 0, got {intensity}"));
+    }
+    Ok(())
+}
+
+fn object(path: &FieldPath, object: &ObjectDesc, materials: &[MaterialDesc]) -> Check {
+    shape(&path.clone().field("shape"), &object.shape)?;
+    if !materials.iter().any(|m| m.name == object.material) {
+        let defined: Vec<String> = materials.iter().map(|m| format!("`{}`", m.name)).collect();
+        let defined = match defined.is_empty() {
+            true => "no materials are defined".to_owned(),
+            false => format!("defined: {}", defined.join(", ")),
+        };
+        return fail(path, "material", format!("material `{}` is not defined; {defined}", object.material));
+    }
+    transform(&path.clone().field("transform"), &object.transform, &object.shape)
+}
+
+fn transform(path: &FieldPath, transform: &TransformDesc, shape: &ShapeDesc) -> Check {
+    finite_vec(path, "translate", transform.translate)?;
+    finite_vec(path, "rotate_deg", transform.rotate_deg)?;
+    finite_vec(path, "scale", transform.scale)?;
+    if let Some((i, _)) = first_component(transform.scale, |s| s == 0.0) {
+        return fail(path, "scale", format!("must be non-zero on every axis, got {} = 0", AXES[i]));
+    }
+    let magnitudes = transform.scale.abs();
+    let spread = magnitudes.max_element() - magnitudes.min_element();
+    if matches!(shape, ShapeDesc::Sphere { .. })
+        && spread > UNIFORM_SCALE_TOLERANCE * magnitudes.max_element()
+    {
+        let rule = format!(
+            "must be uniform for a sphere (|x| = |y| = |z|, within a relative {UNIFORM_SCALE_TOLERANCE}), got {}",
+            vec(transform.scale)
+        );
+        return fail(path, "scale", rule);
+    }
+    Ok(())
+}
+
+fn shape(path: &FieldPath, shape: &ShapeDesc) -> Check {
+    match shape {
+        ShapeDesc::Sphere { centre, radius } => {
+            finite_vec(path, "centre", *centre)?;
+            finite(path, "radius", *radius)?;
+            if *radius <= 0.0 {
+                return fail(path, "radius", format!("must be > 0, got {radius}"));
+            }
+        }
+        ShapeDesc::Plane { point, normal } => {
+            finite_vec(path, "point", *point)?;
+            finite_vec(path, "normal", *normal)?;
+            if *normal == Vec3::ZERO {
+                return fail(path, "normal", "must be non-zero, got (0, 0, 0)".into());
+            }
+        }
+        ShapeDesc::Triangle { vertices } => {
+            let path = path.clone().field("vertices");
+            for (i, v) in vertices.iter().enumerate() {
+                finite_vec(&path, i, *v)?;
+            }
+            let [a, b, c] = vertices.map(|v| v.as_dvec3());
+            let longest = (b - a).length().max((c - b).length()).max((a - c).length());
+            if longest == 0.0 || (b - a).cross(c - a).length() <= DEGENERATE_TOLERANCE * longest * longest {
+                let rule = "must span a non-zero area: the three vertices are collinear or coincide";
+                return Err(Violation { path, rule: rule.into() });
+            }
+        }
+        ShapeDesc::Polygon { vertices } => polygon(&path.clone().field("vertices"), vertices)?,
+        ShapeDesc::Cuboid { min, max } => {
+            finite_vec(path, "min", *min)?;
+            finite_vec(path, "max", *max)?;
+            if let Some((axis, _)) = first_component(*max - *min, |d| d <= 0.0) {
+                let (hi, lo) = (max[axis], min[axis]);
+                let rule = format!(
+                    "must be greater than `min` on every axis; on {}, max {hi} is not greater than min {lo}",
+                    AXES[axis]
+                );
+                return fail(path, "max", rule);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A convex, planar, non-degenerate polygon visiting each corner once.
+fn polygon(path: &FieldPath, vertices: &[Vec3]) -> Check {
+    if vertices.len() < 3 {
+        let rule = format!("a polygon must have at least 3 vertices, got {}", vertices.len());
+        return Err(Violation { path: path.clone(), rule });
+    }
+    for (i, v) in vertices.iter().enumerate() {
+        finite_vec(path, i, *v)?;
+    }
+    let v: Vec<DVec3> = vertices.iter().map(|v| v.as_dvec3()).collect();
+    let n = v.len();
+    let (lo, hi) = v.iter().fold((v[0], v[0]), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+    let size = (hi - lo).length();
+    for i in 0..n {
+        if (v[(i + 1) % n] - v[i]).length() <= DEGENERATE_TOLERANCE * size {
+            let previous = if i + 1 == n { "the last vertex" } else { "the previous vertex" };
+            let rule = format!("repeats {previous}; consecutive vertices must differ");
+            return Err(Violation { path: path.clone().index((i + 1) % n), rule });
+        }
+    }
+    // Newell's method: twice the area times the unit normal, oriented by the winding.
+    let newell: DVec3 = (0..n).map(|i| v[i].cross(v[(i + 1) % n])).sum();
+    if newell.length() <= DEGENERATE_TOLERANCE * size * size {
+        let rule = "must span a non-zero area: the vertices are collinear or coincide";
+        return Err(Violation { path: path.clone(), rule: rule.into() });
+    }
+    let normal = newell.normalize();
+    let centroid = v.iter().sum::<DVec3>() / n as f64;
+    for (i, p) in v.iter().enumerate() {
+        let distance = (*p - centroid).dot(normal).abs();
+        if distance > PLANARITY_TOLERANCE * size {
+            let rule = format!(
+                "must lie in the plane of the polygon: it is {} away (allowed: {PLANARITY_TOLERANCE} of the polygon's size {})",
+                distance as f32, size as f32
+            );
+            return Err(Violation { path: path.clone().index(i), rule });
+        }
+    }
+    let mut total_turn = 0.0;
+    for i in 0..n {
+        let incoming = v[i] - v[(i + n - 1) % n];
+        let outgoing = v[(i + 1) % n] - v[i];
+        let sine = incoming.cross(outgoing).dot(normal);
+        let turn = sine.atan2(incoming.dot(outgoing));
+        if !(-DEGENERATE_TOLERANCE..=PI - DEGENERATE_TOLERANCE).contains(&turn) {
+            let rule = "makes the polygon non-convex: the boundary turns the other way (or folds back) here";
+            return Err(Violation { path: path.clone().index(i), rule: rule.into() });
+        }
+        total_turn += turn;
+    }
+    if total_turn > TAU * (1.0 + 1e-6) {
+        let rule = format!(
+            "must go once around a convex outline, but the boundary winds {:.0} times (it crosses itself)",
+            total_turn / TAU
+        );
+        return Err(Violation { path: path.clone(), rule });
+    }
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------
+// Rule helpers
+// ---------------------------------------------------------------------------------------
+
+/// A field name or a list index under a path.
+trait Child {
+    fn under(self, path: &FieldPath) -> FieldPath;
+}
+
+impl Child for &str {
+    fn under(self, path: &FieldPath) -> FieldPath {
+        path.clone().field(self)
+    }
+}
+
+impl Child for usize {
+    fn under(self, path: &FieldPath) -> FieldPath {
+        path.clone().index(self)
+    }
+}
+
+fn fail(path: &FieldPath, child: impl Child, rule: String) -> Check {
+    Err(Violation { path: child.under(path), rule })
+}
+
+fn finite(path: &FieldPath, name: &str, value: f32) -> Check {
+    match value.is_finite() {
+        true => Ok(()),
+        false => fail(path, name, format!("must be a finite number, got {value}")),
+    }
+}
+
+fn finite_vec(path: &FieldPath, child: impl Child, value: Vec3) -> Check {
+    match first_component(value, |c| !c.is_finite()) {
+        None => Ok(()),
+        Some((i, c)) => {
+            fail(path, child, format!("must be a finite number in every component, got {} = {c}", AXES[i]))
+        }
+    }
+}
+
+fn unit_interval(path: &FieldPath, name: &str, value: f32) -> Check {
+    finite(path, name, value)?;
+    match (0.0..=1.0).contains(&value) {
+        true => Ok(()),
+        false => fail(path, name, format!("must be in [0, 1], got {value}")),
+    }
+}
+
+fn non_negative_channels(path: &FieldPath, name: &str, value: Vec3) -> Check {
+    finite_vec(path, name, value)?;
+    match first_component(value, |c| c < 0.0) {
+        None => Ok(()),
+        Some((i, c)) => fail(path, name, format!("must be >= 0 in every channel, got {} = {c}", CHANNELS[i])),
+    }
+}
+
+/// Names of a vector's components.
+const AXES: [&str; 3] = ["x", "y", "z"];
+/// Names of a colour's channels.
+const CHANNELS: [&str; 3] = ["r", "g", "b"];
+
+/// The index and value of the first component for which `bad` holds.
+fn first_component(value: Vec3, bad: impl Fn(f32) -> bool) -> Option<(usize, f32)> {
+    value.to_array().into_iter().enumerate().find(|&(_, c)| bad(c))
+}
+
+/// A vector as RON writes it: `(1, 0.5, -2)`.
+fn vec(value: Vec3) -> String {
+    format!("({}, {}, {})", value.x, value.y, value.z)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn polygon_rule(vertices: &[Vec3]) -> Option<(String, String)> {
+        let path = FieldPath::root().field("vertices");
+        polygon(&path, vertices).err().map(|v| (v.path.to_string(), v.rule))
+    }
+
+    fn regular(n: usize, step: usize, scale: f32) -> Vec<Vec3> {
+        (0..n)
+            .map(|k| {
+                let angle = std::f32::consts::TAU * (k * step) as f32 / n as f32;
+                Vec3::new(angle.cos(), angle.sin(), 0.0) * scale + Vec3::splat(3.0 * scale)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn convex_polygons_pass_at_every_scale_and_either_winding() {
+        for scale in [1e-3, 1.0, 1e4] {
+            let mut hexagon = regular(6, 1, scale);
+            assert_eq!(polygon_rule(&hexagon), None, "scale {scale}");
+            hexagon.reverse();
+            assert_eq!(polygon_rule(&hexagon), None, "reversed, scale {scale}");
+        }
+    }
+
+    #[test]
+    fn a_pentagram_winds_twice() {
+        let (path, rule) = polygon_rule(&regular(5, 2, 1.0)).expect("rejected");
+        assert_eq!(path, "vertices");
+        assert!(rule.contains("winds 2 times"), "{rule}");
+    }
+
+    #[test]
+    fn a_folded_polygon_is_not_convex() {
+        let folded = [Vec3::ZERO, Vec3::X, Vec3::new(0.5, 0.0, 0.0), Vec3::Y];
+        let (path, rule) = polygon_rule(&folded).expect("rejected");
+        assert_eq!(path, "vertices[1]");
+        assert!(rule.contains("non-convex"), "{rule}");
+    }
+
+    #[test]
+    fn rounding_in_kr_plus_kt_is_tolerated() {
+        let material = MaterialDesc {
+            name: "glass".into(),
+            kd: Vec3::ZERO,
+            ks: 0.0,
+            shininess: 32.0,
+            kr: 0.08,
+            kt: 0.92,
+            ior: 1.5,
+            glossiness: 0.0,
+        };
+        assert_eq!(self::material(&FieldPath::root(), &material), Ok(()));
+    }
+}
