@@ -301,7 +301,16 @@ fn polygon(path: &FieldPath, vertices: &[Vec3]) -> Check {
     // Newell's method: twice the area times the unit normal, oriented by the winding.
     let newell: DVec3 = (0..n).map(|i| v[i].cross(v[(i + 1) % n])).sum();
     if newell.length() <= DEGENERATE_TOLERANCE * size * size {
-        let rule = "must span a non-zero area: the vertices are collinear or coincide";
+        // Zero signed area: either the vertices are collinear, or a self-crossing outline
+        // (a bow-tie) cancels its own area. Tell them apart by the widest triangle on v[0].
+        let far = v.iter().copied().max_by(|a, b| (*a - v[0]).length().total_cmp(&(*b - v[0]).length()));
+        let far = far.unwrap_or(v[0]) - v[0];
+        let spread = v.iter().map(|p| (*p - v[0]).cross(far).length()).fold(0.0, f64::max);
+        let rule = if spread <= DEGENERATE_TOLERANCE * size * size {
+            "must span a non-zero area: the vertices are collinear or coincide"
+        } else {
+            "makes the polygon non-convex: the boundary crosses itself, so its area cancels out"
+        };
         return Err(Violation { path: path.clone(), rule: rule.into() });
     }
     let normal = newell.normalize();
@@ -426,6 +435,19 @@ mod tests {
                 Vec3::new(angle.cos(), angle.sin(), 0.0) * scale + Vec3::splat(3.0 * scale)
             })
             .collect()
+    }
+
+    #[test]
+    fn a_bow_tie_is_non_convex_not_collinear() {
+        for scale in [1e-3, 1.0, 1e4] {
+            let bow_tie =
+                [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)].map(|(x, y)| Vec3::new(x, y, 2.0) * scale);
+            let (_, rule) = polygon_rule(&bow_tie).expect("a bow-tie is rejected");
+            assert!(rule.contains("non-convex") && rule.contains("crosses itself"), "{rule}");
+            let line = [0.0, 1.0, 3.0].map(|x| Vec3::new(x, 2.0 * x, 0.0) * scale);
+            let (_, rule) = polygon_rule(&line).expect("collinear vertices are rejected");
+            assert!(rule.contains("collinear"), "{rule}");
+        }
     }
 
     #[test]
