@@ -14,3 +14,22 @@ pub mod scene;
 pub mod store;
 pub mod trace;
 pub mod world;
+
+/// The types most programs need: load a scene, step its World, render a frame, write it.
+///
+/// ```
+/// use penumbra::prelude::*;
+/// let mut world: SceneWorld = spawn_world(&default_scene());
+/// let snapshot = world.update();
+/// let settings = RenderSettings { width: 32, height: 24, ..world.render_settings() };
+/// let (film, stats) = render(&snapshot, &settings);
+/// assert_eq!(stats.rays.camera, 32 * 24);
+/// # let _ = film;
+/// ```
+pub mod prelude {
+    pub use crate::film::{write_png, Film};
+    pub use crate::math::{Ray, Vec3};
+    pub use crate::scene::{default_scene, load_scene, parse_scene, spawn_world, SceneDesc};
+    pub use crate::trace::{render, RenderSettings, RenderStats, TraceScene};
+    pub use crate::world::SceneWorld;
+}
