@@ -1,5 +1,6 @@
 //! The `penumbra` command line: render a scene file (or the built-in default scene) to a PNG.
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -109,14 +110,13 @@ fn apply_size(desc: &mut SceneDesc, width: Option<u32>, height: Option<u32>) {
 }
 
 fn report(stats: &RenderStats, output: &Path, stats_path: Option<&Path>) -> anyhow::Result<()> {
-    match stats_path {
+    let text = match stats_path {
         Some(path) => {
-            println!("wrote {}\n{}", output.display(), stats.summary());
             let json = serde_json::to_vec_pretty(stats).context("cannot encode statistics")?;
             write_atomically(path, &json)?;
-            println!("stats      {}", path.display());
+            format!("wrote {}\n{}\nstats      {}", output.display(), stats.summary(), path.display())
         }
-        None => println!(
+        None => format!(
             "wrote {} ({}x{}, {} rays in {:.3} s, {:.2} Mrays/s)",
             output.display(),
             stats.width,
@@ -125,6 +125,10 @@ fn report(stats: &RenderStats, output: &Path, stats_path: Option<&Path>) -> anyh
             stats.times.trace,
             stats.mrays_per_s()
         ),
+    };
+    // The files are written; a closed stdout (`penumbra ... | head`) is not an error.
+    match writeln!(std::io::stdout().lock(), "{text}") {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e).context("cannot write to stdout"),
+        _ => Ok(()),
     }
-    Ok(())
 }

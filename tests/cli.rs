@@ -167,3 +167,19 @@ fn every_bad_scene_names_file_line_column_field_and_rule_and_writes_nothing() {
         assert!(err.contains(rule), "{to:?}: expected rule words {rule:?} in {err}");
     }
 }
+
+#[test]
+fn a_closed_stdout_is_not_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut child = Command::new(BIN)
+        .args(["render", "-o", "img.png", "--width", "16", "--stats", "s.json"])
+        .current_dir(dir.path())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    drop(child.stdout.take()); // like `penumbra render | head -0`
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(dir.path().join("img.png").exists() && dir.path().join("s.json").exists());
+}
