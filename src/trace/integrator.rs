@@ -19,30 +19,23 @@ pub fn closest_hit<S: PrimitiveStore>(
     t_min: f32,
     t_max: f32,
 ) -> Option<Hit> {
+    let mut nearest = Nearest::new(t_max);
     let store = &scene.store;
-    let mut best: Option<Hit> = None;
-    let mut t_best = t_max;
     for i in 0..store.unbounded_count() {
-        if let Some(h) = store.intersect_unbounded(i, ray, t_min, t_best) {
-            t_best = h.t;
-            best = Some(h);
-        }
+        nearest.offer(store.intersect_unbounded(i, ray, t_min, nearest.t));
     }
-    for span in GridWalk::new(&scene.grid, ray, t_min, t_best) {
-        if span.t_enter > t_best {
+    for span in GridWalk::new(&scene.grid, ray, t_min, nearest.t) {
+        if span.t_enter > nearest.t {
             break;
         }
         for &id in scene.grid.cell_prims(span.cell) {
-            if let Some(h) = store.intersect_bounded(id, ray, t_min, t_best) {
-                t_best = h.t;
-                best = Some(h);
-            }
+            nearest.offer(store.intersect_bounded(id, ray, t_min, nearest.t));
         }
-        if t_best <= span.t_exit {
+        if nearest.t <= span.t_exit {
             break;
         }
     }
-    best
+    nearest.hit
 }
 
 /// Nearest hit by testing every object: the reference the grid is checked against.
@@ -52,22 +45,37 @@ pub fn closest_hit_brute<S: PrimitiveStore>(
     t_min: f32,
     t_max: f32,
 ) -> Option<Hit> {
+    let mut nearest = Nearest::new(t_max);
     let store = &scene.store;
-    let mut best: Option<Hit> = None;
-    let mut t_best = t_max;
     for i in 0..store.unbounded_count() {
-        if let Some(h) = store.intersect_unbounded(i, ray, t_min, t_best) {
-            t_best = h.t;
-            best = Some(h);
-        }
+        nearest.offer(store.intersect_unbounded(i, ray, t_min, nearest.t));
     }
     for id in 0..store.bounded_count() {
-        if let Some(h) = store.intersect_bounded(id, ray, t_min, t_best) {
-            t_best = h.t;
-            best = Some(h);
+        nearest.offer(store.intersect_bounded(id, ray, t_min, nearest.t));
+    }
+    nearest.hit
+}
+
+/// The nearest hit so far and the ray parameter that bounds further searches.
+struct Nearest {
+    hit: Option<Hit>,
+    t: f32,
+}
+
+impl Nearest {
+    #[inline]
+    fn new(t_max: f32) -> Self {
+        Self { hit: None, t: t_max }
+    }
+
+    /// Keeps `candidate`, which the caller found within `(t_min, self.t)`, so it is nearer.
+    #[inline]
+    fn offer(&mut self, candidate: Option<Hit>) {
+        if let Some(h) = candidate {
+            self.t = h.t;
+            self.hit = Some(h);
         }
     }
-    best
 }
 
 /// Fraction of light that passes along `ray` over `(0, t_max)`: 0 behind an opaque object,
