@@ -10,6 +10,7 @@ pub mod camera;
 pub mod film;
 pub mod geom;
 pub mod math;
+pub mod sample;
 pub mod scene;
 pub mod store;
 pub mod trace;
