@@ -34,7 +34,9 @@
 //! expected. Colours are linear RGB.
 
 use glam::Vec3;
-use serde::Deserialize;
+use serde::{Deserialize, Deserializer};
+
+pub use crate::sample::{Filter, Pattern};
 
 /// A whole scene file.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
@@ -71,6 +73,71 @@ pub struct CameraDesc {
     pub width: u32,
     /// Image height in pixels, 1..=16384.
     pub height: u32,
+    /// Lens radius, ≥ 0, in scene units. Default 0: a pinhole, everything in focus.
+    #[serde(default)]
+    pub aperture: f32,
+    /// Distance from the eye to the plane in focus, along the view direction, > 0. Exclusive
+    /// with `focus_on`; with neither, it is `|look_at - position|`. Default none.
+    #[serde(default)]
+    pub focus_distance: Option<f32>,
+    /// A point to focus on: the focus distance is its depth along the view direction, so it
+    /// must lie in front of the camera. Exclusive with `focus_distance`. Default none.
+    #[serde(default)]
+    pub focus_on: Option<Vec3>,
+    /// Lens samples per camera sample, used only when `aperture` > 0. Default 1, `Jittered`.
+    #[serde(default)]
+    pub lens: SamplingDesc,
+}
+
+/// How many points a distribution effect takes over its domain, and how they are placed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SamplingDesc {
+    /// Number of samples, 1..=4096. Default 1 (`settings.glossy`: 8).
+    pub samples: u32,
+    /// Placement of the samples. Default `Jittered`.
+    pub pattern: Pattern,
+}
+
+impl Default for SamplingDesc {
+    fn default() -> Self {
+        Self { samples: 1, pattern: Pattern::Jittered }
+    }
+}
+
+/// Anti-aliasing: camera samples per pixel and how they are placed and weighted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct AaDesc {
+    /// Camera samples per pixel, 1..=4096. Default 1.
+    pub samples: u32,
+    /// Placement of the samples over the pixel footprint. Default `Jittered`.
+    pub pattern: Pattern,
+    /// Reconstruction filter. Default `Box`.
+    pub filter: Filter,
+}
+
+impl Default for AaDesc {
+    fn default() -> Self {
+        Self { samples: 1, pattern: Pattern::Jittered, filter: Filter::Box }
+    }
+}
+
+/// Adaptive supersampling by recursive corner subdivision; when on it replaces `aa`.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct AdaptiveDesc {
+    /// A square is subdivided while its corner colours differ by more than this; finite, ≥ 0.
+    /// Default 0.05.
+    pub threshold: f32,
+    /// Deepest subdivision level, 1..=6. Default 3.
+    pub max_depth: u32,
+}
+
+impl Default for AdaptiveDesc {
+    fn default() -> Self {
+        Self { threshold: 0.05, max_depth: 3 }
+    }
 }
 
 /// Render settings stored with the scene.
@@ -87,6 +154,14 @@ pub struct SettingsDesc {
     pub ambient: Vec3,
     /// Seed of every random choice the renderer makes. Default 0.
     pub seed: u64,
+    /// Anti-aliasing. Default 1 sample per pixel, `Jittered`, `Box`.
+    pub aa: AaDesc,
+    /// Adaptive supersampling; replaces `aa` when given. Default none (off).
+    pub adaptive: Option<AdaptiveDesc>,
+    /// Rays per glossy reflection or blurry refraction at the first bounce (deeper bounces
+    /// use one). Default 8, `Jittered`; a `glossy: (...)` without `samples` also gets 8.
+    #[serde(deserialize_with = "glossy_sampling")]
+    pub glossy: SamplingDesc,
 }
 
 impl Default for SettingsDesc {
@@ -97,6 +172,9 @@ impl Default for SettingsDesc {
             background: Vec3::ZERO,
             ambient: Vec3::splat(0.1),
             seed: 0,
+            aa: AaDesc::default(),
+            adaptive: None,
+            glossy: SamplingDesc { samples: DEFAULT_GLOSSY_SAMPLES, pattern: Pattern::Jittered },
         }
     }
 }
@@ -124,7 +202,9 @@ pub struct MaterialDesc {
     /// Index of refraction, > 0. Default 1.5.
     #[serde(default = "default_ior")]
     pub ior: f32,
-    /// Blur of reflection and refraction in [0, 1]: 0 is a perfect mirror. Default 0.
+    /// Blur of reflection and refraction in [0, 1]: rays spread over a cone of half-angle
+    /// `glossiness × 45°` around the mirror (`kr`) or refracted (`kt`) direction; 0 is a
+    /// perfect mirror. Default 0.
     #[serde(default)]
     pub glossiness: f32,
 }
@@ -154,6 +234,50 @@ pub enum LightDesc {
         /// Scale of the colour, ≥ 0. Default 1.
         #[serde(default = "default_intensity")]
         intensity: f32,
+    },
+    /// A parallelogram area light `corner + s·edge_u + t·edge_v` (s, t in [0, 1]), emitting
+    /// to both sides and invisible to camera rays; colour × intensity is spread over the samples.
+    Rect {
+        /// One corner.
+        corner: Vec3,
+        /// First edge from `corner`; non-zero.
+        edge_u: Vec3,
+        /// Second edge from `corner`; non-zero and not parallel to `edge_u`.
+        edge_v: Vec3,
+        /// Linear RGB colour, each channel ≥ 0. Default white.
+        #[serde(default = "default_colour")]
+        colour: Vec3,
+        /// Scale of the colour, ≥ 0. Default 1.
+        #[serde(default = "default_intensity")]
+        intensity: f32,
+        /// Shadow rays per shading point, 1..=4096. Default 16.
+        #[serde(default = "default_light_samples")]
+        samples: u32,
+        /// Placement of the samples over the light. Default `Jittered`.
+        #[serde(default)]
+        pattern: Pattern,
+    },
+    /// A disk area light, emitting to both sides and invisible to camera rays; colour ×
+    /// intensity is spread over the samples.
+    Disk {
+        /// Centre.
+        centre: Vec3,
+        /// Normal of the disk's plane; non-zero.
+        normal: Vec3,
+        /// Radius, > 0.
+        radius: f32,
+        /// Linear RGB colour, each channel ≥ 0. Default white.
+        #[serde(default = "default_colour")]
+        colour: Vec3,
+        /// Scale of the colour, ≥ 0. Default 1.
+        #[serde(default = "default_intensity")]
+        intensity: f32,
+        /// Shadow rays per shading point, 1..=4096. Default 16.
+        #[serde(default = "default_light_samples")]
+        samples: u32,
+        /// Placement of the samples over the light. Default `Jittered`.
+        #[serde(default)]
+        pattern: Pattern,
     },
 }
 
@@ -256,4 +380,29 @@ fn default_colour() -> Vec3 {
 }
 fn default_intensity() -> f32 {
     1.0
+}
+fn default_light_samples() -> u32 {
+    16
+}
+
+/// Default `settings.glossy.samples`.
+const DEFAULT_GLOSSY_SAMPLES: u32 = 8;
+
+/// `settings.glossy` as written: like [`SamplingDesc`], but an omitted `samples` is 8, not 1.
+#[derive(Deserialize)]
+#[serde(rename = "SamplingDesc", default, deny_unknown_fields)]
+struct GlossySampling {
+    samples: u32,
+    pattern: Pattern,
+}
+
+impl Default for GlossySampling {
+    fn default() -> Self {
+        Self { samples: DEFAULT_GLOSSY_SAMPLES, pattern: Pattern::Jittered }
+    }
+}
+
+fn glossy_sampling<'de, D: Deserializer<'de>>(deserializer: D) -> Result<SamplingDesc, D::Error> {
+    let GlossySampling { samples, pattern } = GlossySampling::deserialize(deserializer)?;
+    Ok(SamplingDesc { samples, pattern })
 }

@@ -118,6 +118,10 @@ fn from_ron(text: &str, origin: &str, error: &SpannedError) -> SceneError {
         | RonError::IntegerOutOfBounds
         | RonError::InvalidValueForType { .. }
         | RonError::ExpectedDifferentLength { .. } => wrong_type(text, origin, start, &at, &error.code),
+        // A non-name where a unit variant (`pattern: Grid`) is expected.
+        RonError::ExpectedIdentifier | RonError::SuggestRawIdentifier(_) if names_a_variant(&at) => {
+            wrong_type(text, origin, start, &at, &error.code)
+        }
         RonError::ExpectedComma if inside_value(text, &at, start) => {
             wrong_type(text, origin, start, &at, &error.code)
         }
@@ -168,6 +172,11 @@ fn inside_value(text: &str, path: &FieldPath, (line, col): (usize, usize)) -> bo
         && col < value_col + source.chars().count()
 }
 
+/// Whether the field at `path` holds a unit variant written as a bare name.
+fn names_a_variant(path: &FieldPath) -> bool {
+    matches!(path.last(), Some(Segment::Field(name)) if name == "pattern" || name == "filter")
+}
+
 /// `path`, ending in the field `name` (ron's span of an unknown or duplicate field name).
 fn ending_in(path: FieldPath, name: &str) -> FieldPath {
     match path.last() {
@@ -189,22 +198,28 @@ fn expected_type(path: &FieldPath) -> Option<&'static str> {
         (Some(Segment::Index(_)), Segment::Index(_)) => "a number",
         (Some(Segment::Field(list)), Segment::Index(_)) => match list.as_str() {
             "materials" | "objects" => "a struct in parentheses `(name: value, ...)`",
-            "lights" => "a light: `Point(...)` or `Directional(...)`",
+            "lights" => "a light: `Point(...)`, `Directional(...)`, `Rect(...)` or `Disk(...)`",
             "vertices" => VECTOR,
             _ => "a number",
         },
         (_, Segment::Field(name)) => match name.as_str() {
-            "camera" | "settings" | "transform" => "a struct in parentheses `(name: value, ...)`",
+            "camera" | "settings" | "transform" | "lens" | "aa" | "glossy" => {
+                "a struct in parentheses `(name: value, ...)`"
+            }
+            "adaptive" => "a struct in parentheses `(name: value, ...)`, or `None`",
+            "pattern" => "a pattern: `Grid`, `Random` or `Jittered`",
+            "filter" => "a filter: `Box` or `Tent`",
             "materials" | "lights" | "objects" => "a list in brackets `[...]`",
             "shape" => "a shape: `Sphere(...)`, `Plane(...)`, `Triangle(...)`, `Polygon(...)` or `Box(...)`",
-            "width" | "height" | "max_depth" => "a whole number (32-bit, unsigned)",
+            "width" | "height" | "max_depth" | "samples" => "a whole number (32-bit, unsigned)",
             "seed" => "a whole number (64-bit, unsigned)",
             "name" | "material" => "a string in double quotes",
             "vertices" => {
                 "a list of vectors: `((x, y, z), ...)` for a triangle, `[(x, y, z), ...]` for a polygon"
             }
             "position" | "look_at" | "up" | "background" | "ambient" | "kd" | "colour" | "direction"
-            | "centre" | "point" | "normal" | "min" | "max" | "translate" | "rotate_deg" | "scale" => VECTOR,
+            | "centre" | "point" | "normal" | "min" | "max" | "translate" | "rotate_deg" | "scale"
+            | "focus_on" | "corner" | "edge_u" | "edge_v" => VECTOR,
             _ => "a number",
         },
         (_, Segment::Index(_)) => return None,
@@ -231,6 +246,13 @@ mod tests {
         assert_eq!(expect("objects[1].shape.vertices[2][0]"), Some("a number"));
         assert_eq!(expect("materials[0].kd[1]"), Some("a number"));
         assert_eq!(expect("materials[0].ks"), Some("a number"));
+        assert_eq!(expect("camera.aperture"), Some("a number"));
+        assert_eq!(expect("camera.focus_on"), Some("a vector `(x, y, z)` of three numbers"));
+        assert_eq!(expect("camera.lens.samples"), Some("a whole number (32-bit, unsigned)"));
+        assert_eq!(expect("settings.adaptive.max_depth"), Some("a whole number (32-bit, unsigned)"));
+        assert_eq!(expect("settings.aa.filter"), Some("a filter: `Box` or `Tent`"));
+        assert_eq!(expect("lights[2].edge_v"), Some("a vector `(x, y, z)` of three numbers"));
+        assert_eq!(expect("lights[3].pattern"), Some("a pattern: `Grid`, `Random` or `Jittered`"));
         assert_eq!(expect(""), None);
     }
 

@@ -13,8 +13,8 @@ use std::fmt;
 
 use glam::{DVec3, Vec3};
 
-use super::format::{CameraDesc, LightDesc, MaterialDesc, ObjectDesc, SceneDesc, SettingsDesc};
-use super::format::{ShapeDesc, TransformDesc};
+use super::format::{AdaptiveDesc, CameraDesc, LightDesc, MaterialDesc, ObjectDesc, SceneDesc};
+use super::format::{SamplingDesc, SettingsDesc, ShapeDesc, TransformDesc};
 use super::locate::FieldPath;
 
 /// Largest accepted image width or height, in pixels.
@@ -30,6 +30,11 @@ pub const DEGENERATE_TOLERANCE: f64 = 1e-6;
 pub const PLANARITY_TOLERANCE: f64 = 1e-5;
 /// Relative tolerance for a sphere's uniform scale.
 pub const UNIFORM_SCALE_TOLERANCE: f32 = 1e-5;
+/// Largest accepted sample count of any distribution effect (anti-aliasing, lens, glossy
+/// rays, area lights).
+pub const MAX_SAMPLES: u32 = 4096;
+/// Largest accepted `settings.adaptive.max_depth`.
+pub const MAX_ADAPTIVE_DEPTH: u32 = 6;
 
 /// The first rule a scene breaks: which field, and what is wrong with it.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -134,7 +139,33 @@ fn camera(path: &FieldPath, camera: &CameraDesc) -> Check {
             return fail(path, name, format!("must be in 1..={MAX_IMAGE_SIZE} pixels, got {size}"));
         }
     }
-    Ok(())
+    finite(path, "aperture", camera.aperture)?;
+    if camera.aperture < 0.0 {
+        return fail(path, "aperture", format!("must be >= 0, got {}", camera.aperture));
+    }
+    if let Some(distance) = camera.focus_distance {
+        finite(path, "focus_distance", distance)?;
+        if distance <= 0.0 {
+            return fail(path, "focus_distance", format!("must be > 0, got {distance}"));
+        }
+    }
+    if let Some(point) = camera.focus_on {
+        finite_vec(path, "focus_on", point)?;
+        if camera.focus_distance.is_some() {
+            let rule = "must not be given together with `focus_distance`; give one of them".into();
+            return fail(path, "focus_on", rule);
+        }
+        let depth = (point.as_dvec3() - camera.position.as_dvec3()).dot(view.normalize());
+        if depth as f32 <= 0.0 {
+            let rule = format!(
+                "must be in front of the camera (depth along `look_at - position` > 0), got {} at depth {}",
+                vec(point),
+                depth as f32
+            );
+            return fail(path, "focus_on", rule);
+        }
+    }
+    sampling(&path.clone().field("lens"), &camera.lens)
 }
 
 fn settings(path: &FieldPath, settings: &SettingsDesc) -> Check {
@@ -143,7 +174,28 @@ fn settings(path: &FieldPath, settings: &SettingsDesc) -> Check {
     }
     unit_interval(path, "min_contribution", settings.min_contribution)?;
     non_negative_channels(path, "background", settings.background)?;
-    non_negative_channels(path, "ambient", settings.ambient)
+    non_negative_channels(path, "ambient", settings.ambient)?;
+    sample_count(&path.clone().field("aa"), "samples", settings.aa.samples)?;
+    if let Some(adaptive_desc) = &settings.adaptive {
+        adaptive(&path.clone().field("adaptive"), adaptive_desc)?;
+    }
+    sampling(&path.clone().field("glossy"), &settings.glossy)
+}
+
+fn adaptive(path: &FieldPath, adaptive: &AdaptiveDesc) -> Check {
+    finite(path, "threshold", adaptive.threshold)?;
+    if adaptive.threshold < 0.0 {
+        return fail(path, "threshold", format!("must be >= 0, got {}", adaptive.threshold));
+    }
+    if !(1..=MAX_ADAPTIVE_DEPTH).contains(&adaptive.max_depth) {
+        let rule = format!("must be in 1..={MAX_ADAPTIVE_DEPTH}, got {}", adaptive.max_depth);
+        return fail(path, "max_depth", rule);
+    }
+    Ok(())
+}
+
+fn sampling(path: &FieldPath, sampling: &SamplingDesc) -> Check {
+    sample_count(path, "samples", sampling.samples)
 }
 
 fn material(path: &FieldPath, material: &MaterialDesc) -> Check {
@@ -178,17 +230,34 @@ fn material(path: &FieldPath, material: &MaterialDesc) -> Check {
 }
 
 fn light(path: &FieldPath, light: &LightDesc) -> Check {
-    let (colour, intensity) = match light {
+    let (colour, intensity, samples) = match light {
         LightDesc::Point { position, colour, intensity } => {
             finite_vec(path, "position", *position)?;
-            (colour, intensity)
+            (colour, intensity, None)
         }
         LightDesc::Directional { direction, colour, intensity } => {
-            finite_vec(path, "direction", *direction)?;
-            if *direction == Vec3::ZERO {
-                return fail(path, "direction", "must be non-zero, got (0, 0, 0)".into());
+            non_zero_vec(path, "direction", *direction)?;
+            (colour, intensity, None)
+        }
+        LightDesc::Rect { corner, edge_u, edge_v, colour, intensity, samples, .. } => {
+            finite_vec(path, "corner", *corner)?;
+            non_zero_vec(path, "edge_u", *edge_u)?;
+            non_zero_vec(path, "edge_v", *edge_v)?;
+            let (u, v) = (edge_u.as_dvec3(), edge_v.as_dvec3());
+            if u.cross(v).length() < DEGENERATE_TOLERANCE * u.length() * v.length() {
+                let rule = format!("must not be parallel to `edge_u` = {}, got {}", vec(*edge_u), vec(*edge_v));
+                return fail(path, "edge_v", rule);
             }
-            (colour, intensity)
+            (colour, intensity, Some(samples))
+        }
+        LightDesc::Disk { centre, normal, radius, colour, intensity, samples, .. } => {
+            finite_vec(path, "centre", *centre)?;
+            non_zero_vec(path, "normal", *normal)?;
+            finite(path, "radius", *radius)?;
+            if *radius <= 0.0 {
+                return fail(path, "radius", format!("must be > 0, got {radius}"));
+            }
+            (colour, intensity, Some(samples))
         }
     };
     non_negative_channels(path, "colour", *colour)?;
@@ -196,7 +265,10 @@ fn light(path: &FieldPath, light: &LightDesc) -> Check {
     if *intensity < 0.0 {
         return fail(path, "intensity", format!("must be >= 0, got {intensity}"));
     }
-    Ok(())
+    match samples {
+        Some(samples) => sample_count(path, "samples", *samples),
+        None => Ok(()),
+    }
 }
 
 fn object(path: &FieldPath, object: &ObjectDesc, materials: &[MaterialDesc]) -> Check {
@@ -385,6 +457,21 @@ fn finite_vec(path: &FieldPath, child: impl Child, value: Vec3) -> Check {
         Some((i, c)) => {
             fail(path, child, format!("must be a finite number in every component, got {} = {c}", AXES[i]))
         }
+    }
+}
+
+fn non_zero_vec(path: &FieldPath, name: &str, value: Vec3) -> Check {
+    finite_vec(path, name, value)?;
+    match value == Vec3::ZERO {
+        true => fail(path, name, "must be non-zero, got (0, 0, 0)".into()),
+        false => Ok(()),
+    }
+}
+
+fn sample_count(path: &FieldPath, name: &str, samples: u32) -> Check {
+    match (1..=MAX_SAMPLES).contains(&samples) {
+        true => Ok(()),
+        false => fail(path, name, format!("must be in 1..={MAX_SAMPLES}, got {samples}")),
     }
 }
 
