@@ -435,6 +435,291 @@ fn the_first_violation_in_document_order_is_reported() {
 }
 
 // ---------------------------------------------------------------------------------------
+// Distribution effects: depth of field, anti-aliasing, adaptive sampling, glossy rays and
+// area lights. `EFFECTS` gives every new field explicitly; `BASE` gives none of them.
+// ---------------------------------------------------------------------------------------
+
+/// A small valid scene that sets every distribution-effect field; tests change one line.
+const EFFECTS: &str = r#"// Every distribution effect; each test changes one line.
+Scene(
+    camera: (
+        position: (0.0, 1.0, -5.0),
+        look_at: (0.0, 0.0, 0.0),
+        fov_deg: 45.0,
+        width: 64,
+        height: 48,
+        aperture: 0.1,
+        focus_distance: 5.0,
+        lens: (samples: 4, pattern: Grid),
+    ),
+    settings: (
+        aa: (samples: 16, pattern: Random, filter: Tent),
+        adaptive: (threshold: 0.1, max_depth: 2),
+        glossy: (samples: 4, pattern: Jittered),
+    ),
+    materials: [(name: "m", kd: (0.5, 0.5, 0.5), kr: 0.5, glossiness: 0.2)],
+    lights: [
+        Rect(corner: (-1.0, 4.0, -1.0), edge_u: (2.0, 0.0, 0.0), edge_v: (0.0, 0.0, 2.0), colour: (1.0, 1.0, 1.0), intensity: 1.0, samples: 16, pattern: Jittered),
+        Disk(centre: (0.0, 4.0, 0.0), normal: (0.0, -1.0, 0.0), radius: 0.5, colour: (1.0, 1.0, 1.0), intensity: 1.0, samples: 8, pattern: Grid),
+    ],
+    objects: [(shape: Sphere(centre: (0.0, 0.0, 0.0), radius: 1.0), material: "m")],
+)
+"#;
+
+/// `EFFECTS` with `from` replaced by `to` on the 1-based `line`.
+fn effects(line: usize, from: &str, to: &str) -> String {
+    edit_text(EFFECTS, line, from, to)
+}
+
+#[test]
+fn every_effect_field_is_read_as_written() {
+    use penumbra::scene::{Filter, LightDesc, Pattern};
+    let scene = parse_scene(EFFECTS, "effects.ron").unwrap_or_else(|e| panic!("{e}"));
+    let camera = &scene.camera;
+    assert_eq!((camera.aperture, camera.focus_distance, camera.focus_on), (0.1, Some(5.0), None));
+    assert_eq!((camera.lens.samples, camera.lens.pattern), (4, Pattern::Grid));
+    let settings = &scene.settings;
+    assert_eq!((settings.aa.samples, settings.aa.pattern, settings.aa.filter), (16, Pattern::Random, Filter::Tent));
+    let adaptive = settings.adaptive.expect("adaptive is on");
+    assert_eq!((adaptive.threshold, adaptive.max_depth), (0.1, 2));
+    assert_eq!((settings.glossy.samples, settings.glossy.pattern), (4, Pattern::Jittered));
+    assert!(matches!(scene.lights[0], LightDesc::Rect { samples: 16, pattern: Pattern::Jittered, .. }));
+    assert!(matches!(scene.lights[1], LightDesc::Disk { radius: 0.5, samples: 8, pattern: Pattern::Grid, .. }));
+    let text = effects(10, "focus_distance: 5.0", "focus_on: (0.0, 0.5, 0.0)");
+    let scene = parse_scene(&text, "ok.ron").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((scene.camera.focus_distance, scene.camera.focus_on), (None, Some(glam::Vec3::new(0.0, 0.5, 0.0))));
+}
+
+#[test]
+fn every_effect_field_has_its_default_when_absent() {
+    use glam::Vec3;
+    use penumbra::scene::{AaDesc, AdaptiveDesc, Filter, LightDesc, Pattern, SamplingDesc};
+    let scene = parse_scene(BASE, "base.ron").expect("valid");
+    let camera = &scene.camera;
+    assert_eq!((camera.aperture, camera.focus_distance, camera.focus_on), (0.0, None, None));
+    assert_eq!(camera.lens, SamplingDesc { samples: 1, pattern: Pattern::Jittered });
+    let settings = &scene.settings;
+    assert_eq!(settings.aa, AaDesc { samples: 1, pattern: Pattern::Jittered, filter: Filter::Box });
+    assert_eq!(settings.adaptive, None);
+    assert_eq!(settings.glossy, SamplingDesc { samples: 8, pattern: Pattern::Jittered });
+    // A partly written struct takes the missing fields from its own defaults.
+    let text = effects(11, "(samples: 4, pattern: Grid)", "(pattern: Grid)");
+    let text = edit_text(&text, 14, "(samples: 16, pattern: Random, filter: Tent)", "(samples: 4)");
+    let text = edit_text(&text, 15, "(threshold: 0.1, max_depth: 2)", "()");
+    let text = edit_text(&text, 16, "(samples: 4, pattern: Jittered)", "(pattern: Grid)");
+    let text = edit_text(&text, 20, ", colour: (1.0, 1.0, 1.0), intensity: 1.0, samples: 16, pattern: Jittered", "");
+    let text = edit_text(&text, 21, ", colour: (1.0, 1.0, 1.0), intensity: 1.0, samples: 8, pattern: Grid", "");
+    let scene = parse_scene(&text, "partial.ron").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.camera.lens, SamplingDesc { samples: 1, pattern: Pattern::Grid });
+    assert_eq!(scene.settings.aa, AaDesc { samples: 4, pattern: Pattern::Jittered, filter: Filter::Box });
+    assert_eq!(scene.settings.adaptive, Some(AdaptiveDesc { threshold: 0.05, max_depth: 3 }));
+    // `glossy` keeps its own default of 8 samples when only the pattern is given.
+    assert_eq!(scene.settings.glossy, SamplingDesc { samples: 8, pattern: Pattern::Grid });
+    for light in &scene.lights {
+        let (LightDesc::Rect { colour, intensity, samples, pattern, .. }
+        | LightDesc::Disk { colour, intensity, samples, pattern, .. }) = light
+        else {
+            panic!("expected an area light, got {light:?}");
+        };
+        assert_eq!((*colour, *intensity, *samples, *pattern), (Vec3::ONE, 1.0, 16, Pattern::Jittered));
+    }
+    // `adaptive: None` spells out the default: off.
+    let text = effects(15, "(threshold: 0.1, max_depth: 2)", "None");
+    assert_eq!(parse_scene(&text, "off.ron").expect("valid").settings.adaptive, None);
+}
+
+#[test]
+fn aperture_is_non_negative_and_finite() {
+    assert_invalid(&effects(9, "0.1", "-0.1"), 9, "-0.1", "camera.aperture", &["must be >= 0", "got -0.1"]);
+    assert_invalid(&effects(9, "0.1", "NaN"), 9, "NaN", "camera.aperture", &["must be a finite number"]);
+    parse_scene(&effects(9, "0.1", "0.0"), "ok.ron").expect("a pinhole is allowed");
+}
+
+#[test]
+fn focus_distance_is_positive() {
+    for bad in ["0.0", "-2.0"] {
+        let text = effects(10, "5.0", bad);
+        let got = format!("got {}", bad.trim_end_matches(".0"));
+        assert_invalid(&text, 10, bad, "camera.focus_distance", &["must be > 0", &got]);
+    }
+    let text = effects(10, "5.0", "inf");
+    assert_invalid(&text, 10, "inf", "camera.focus_distance", &["must be a finite number"]);
+}
+
+#[test]
+fn focus_distance_and_focus_on_are_exclusive_and_reported_at_focus_on() {
+    let text = effects(10, "focus_distance: 5.0,", "focus_distance: 5.0, focus_on: (0.0, 0.0, 0.0),");
+    assert_invalid(
+        &text,
+        10,
+        "(0.0, 0.0, 0.0)",
+        "camera.focus_on",
+        &["must not be given together with `focus_distance`"],
+    );
+}
+
+#[test]
+fn focus_on_must_be_in_front_of_the_camera() {
+    // The camera at (0, 1, -5) looks along (0, -1, 5): (0, 1, -6) is behind it and
+    // (1, 1, -5) is beside it, at depth 0.
+    for point in ["(0.0, 1.0, -6.0)", "(1.0, 1.0, -5.0)"] {
+        let text = effects(10, "focus_distance: 5.0", &format!("focus_on: {point}"));
+        assert_invalid(&text, 10, point, "camera.focus_on", &["must be in front of the camera", "at depth "]);
+    }
+    let text = effects(10, "focus_distance: 5.0", "focus_on: (0.0, NaN, 0.0)");
+    assert_invalid(&text, 10, "(0.0, NaN", "camera.focus_on", &["must be a finite number", "y = NaN"]);
+    // Anywhere in front is fine, however far to the side.
+    parse_scene(&effects(10, "focus_distance: 5.0", "focus_on: (100.0, 1.0, -4.9)"), "ok.ron")
+        .unwrap_or_else(|e| panic!("{e}"));
+}
+
+#[test]
+fn every_sample_count_is_1_to_4096() {
+    let cases = [
+        (11, "samples: 4, pattern: Grid", "camera.lens.samples"),
+        (14, "samples: 16, pattern: Random", "settings.aa.samples"),
+        (16, "samples: 4, pattern: Jittered", "settings.glossy.samples"),
+        (20, "samples: 16, pattern: Jittered", "lights[0].samples"),
+        (21, "samples: 8, pattern: Grid", "lights[1].samples"),
+    ];
+    for (line, from, field) in cases {
+        for bad in ["0", "4097"] {
+            let to = from.replacen(from.split(", ").next().expect("samples"), &format!("samples: {bad}"), 1);
+            let text = effects(line, from, &to);
+            let at = format!("samples: |{bad},");
+            assert_invalid(&text, line, &at, field, &["must be in 1..=4096", &format!("got {bad}")]);
+        }
+        let to = from.replacen(from.split(", ").next().expect("samples"), "samples: 4096", 1);
+        parse_scene(&effects(line, from, &to), "ok.ron").unwrap_or_else(|e| panic!("{e}"));
+    }
+}
+
+#[test]
+fn adaptive_threshold_is_non_negative_and_depth_is_1_to_6() {
+    let text = effects(15, "threshold: 0.1", "threshold: -0.1");
+    assert_invalid(&text, 15, "-0.1", "settings.adaptive.threshold", &["must be >= 0", "got -0.1"]);
+    let text = effects(15, "threshold: 0.1", "threshold: inf");
+    assert_invalid(&text, 15, "inf", "settings.adaptive.threshold", &["must be a finite number"]);
+    for bad in ["0", "7"] {
+        let text = effects(15, "max_depth: 2", &format!("max_depth: {bad}"));
+        let at = format!("max_depth: |{bad})");
+        assert_invalid(&text, 15, &at, "settings.adaptive.max_depth", &["must be in 1..=6", &format!("got {bad}")]);
+    }
+    parse_scene(&effects(15, "threshold: 0.1, max_depth: 2", "threshold: 0.0, max_depth: 6"), "ok.ron")
+        .unwrap_or_else(|e| panic!("{e}"));
+}
+
+#[test]
+fn rect_light_edges_are_non_zero() {
+    let text = effects(20, "edge_u: (2.0, 0.0, 0.0)", "edge_u: (0.0, 0.0, 0.0)");
+    assert_invalid(&text, 20, "(0.0, 0.0, 0.0), edge_v", "lights[0].edge_u", &["must be non-zero"]);
+    let text = effects(20, "edge_v: (0.0, 0.0, 2.0)", "edge_v: (0.0, 0.0, 0.0)");
+    assert_invalid(&text, 20, "(0.0, 0.0, 0.0), colour", "lights[0].edge_v", &["must be non-zero"]);
+    let text = effects(20, "corner: (-1.0, 4.0, -1.0)", "corner: (-1.0, 4.0, inf)");
+    assert_invalid(&text, 20, "(-1.0, 4.0, inf)", "lights[0].corner", &["must be a finite number", "z = inf"]);
+}
+
+#[test]
+fn rect_light_edges_are_not_parallel_at_any_scale() {
+    let text = effects(20, "edge_v: (0.0, 0.0, 2.0)", "edge_v: (-4.0, 0.0, 0.0)");
+    assert_invalid(
+        &text,
+        20,
+        "(-4.0, 0.0, 0.0)",
+        "lights[0].edge_v",
+        &["must not be parallel to `edge_u` = (2, 0, 0)", "got (-4, 0, 0)"],
+    );
+    // Nearly parallel long edges are a sliver, however long...
+    let sliver = "edge_u: (1000.0, 0.0, 0.0), edge_v: (1000.0, 0.0001, 0.0)";
+    let text = effects(20, "edge_u: (2.0, 0.0, 0.0), edge_v: (0.0, 0.0, 2.0)", sliver);
+    assert_invalid(&text, 20, "(1000.0, 0.0001", "lights[0].edge_v", &["must not be parallel"]);
+    // ...while tiny or huge square lights are fine.
+    for s in ["0.0001", "10000.0"] {
+        let square = format!("edge_u: ({s}, 0.0, 0.0), edge_v: (0.0, 0.0, {s})");
+        let text = effects(20, "edge_u: (2.0, 0.0, 0.0), edge_v: (0.0, 0.0, 2.0)", &square);
+        parse_scene(&text, "ok.ron").unwrap_or_else(|e| panic!("{e}"));
+    }
+}
+
+#[test]
+fn area_light_colour_and_intensity_are_non_negative() {
+    let text = effects(20, "colour: (1.0, 1.0, 1.0)", "colour: (1.0, -0.5, 1.0)");
+    assert_invalid(&text, 20, "(1.0, -0.5", "lights[0].colour", &[">= 0 in every channel", "g = -0.5"]);
+    let text = effects(21, "intensity: 1.0", "intensity: -1.0");
+    assert_invalid(&text, 21, "intensity: |-1.0", "lights[1].intensity", &["must be >= 0", "got -1"]);
+}
+
+#[test]
+fn disk_light_radius_is_positive_and_normal_non_zero() {
+    for bad in ["0.0", "-0.5"] {
+        let text = effects(21, "radius: 0.5", &format!("radius: {bad}"));
+        let got = format!("got {}", bad.trim_end_matches(".0"));
+        assert_invalid(&text, 21, &format!("radius: |{bad}"), "lights[1].radius", &["must be > 0", &got]);
+    }
+    let text = effects(21, "normal: (0.0, -1.0, 0.0)", "normal: (0.0, 0.0, 0.0)");
+    assert_invalid(&text, 21, "(0.0, 0.0, 0.0)", "lights[1].normal", &["must be non-zero"]);
+    // The normal comes before the radius in the schema, so it is reported first.
+    let text = effects(21, "normal: (0.0, -1.0, 0.0), radius: 0.5", "normal: (0.0, 0.0, 0.0), radius: 0.0");
+    assert_invalid(&text, 21, "(0.0, 0.0, 0.0)", "lights[1].normal", &["must be non-zero"]);
+}
+
+#[test]
+fn effect_fields_follow_document_order() {
+    // A bad lens (camera) is reported before a bad anti-aliasing count (settings).
+    let text = effects(11, "samples: 4", "samples: 0");
+    let text = edit_text(&text, 14, "samples: 16", "samples: 0");
+    assert_invalid(&text, 11, "0, pattern", "camera.lens.samples", &["1..=4096"]);
+}
+
+#[test]
+fn wrong_types_in_effect_fields_say_what_was_expected() {
+    let text = effects(11, "pattern: Grid", "pattern: 3");
+    assert_invalid(
+        &text,
+        11,
+        "3)",
+        "camera.lens.pattern",
+        &["expected a pattern: `Grid`, `Random` or `Jittered`, found `3`"],
+    );
+    let text = effects(14, "filter: Tent", "filter: \"Tent\"");
+    assert_invalid(&text, 14, "\"Tent\"", "settings.aa.filter", &["expected a filter: `Box` or `Tent`"]);
+    let text = effects(14, "filter: Tent", "filter: Gauss");
+    assert_invalid(&text, 14, "Gauss", "settings.aa.filter", &["unknown variant `Gauss`; expected one of `Box`, `Tent`"]);
+    let text = effects(21, "samples: 8", "samples: 2.5");
+    assert_invalid(&text, 21, "2.5", "lights[1].samples", &["expected a whole number (32-bit, unsigned)"]);
+    let text = effects(10, "focus_distance: 5.0", "focus_on: (0.0, 0.0)");
+    assert_invalid(&text, 10, "(0.0, 0.0)", "camera.focus_on", &["expected a vector `(x, y, z)`"]);
+    let text = effects(15, "(threshold: 0.1, max_depth: 2)", "0.1");
+    assert_invalid(&text, 15, "0.1", "settings.adaptive", &["expected a struct in parentheses", "or `None`"]);
+    let text = effects(11, "samples: 4", "sample: 4");
+    assert_invalid(
+        &text,
+        11,
+        "sample:",
+        "camera.lens.sample",
+        &["unknown field `sample`; expected one of `samples`, `pattern`"],
+    );
+    let text = effects(21, "Disk(", "Sphere(");
+    assert_invalid(&text, 21, "Sphere", "lights[1]", &["unknown variant `Sphere`", "`Rect`, `Disk`"]);
+}
+
+#[test]
+fn every_shipped_scene_loads() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut names = Vec::new();
+    for entry in std::fs::read_dir(&dir).expect("scenes/ exists") {
+        let path = entry.expect("readable entry").path();
+        if path.extension().is_some_and(|ext| ext == "ron") {
+            load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+            names.push(path.file_name().expect("file name").to_string_lossy().into_owned());
+        }
+    }
+    for expected in ["default.ron", "every_type.ron", "effects_aa.ron", "showcase.ron"] {
+        assert!(names.iter().any(|name| name == expected), "scenes/ lacks {expected}");
+    }
+}
+
+// ---------------------------------------------------------------------------------------
 // Non-finite numbers and RON errors
 // ---------------------------------------------------------------------------------------
 
