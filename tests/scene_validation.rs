@@ -96,6 +96,17 @@ fn the_base_scene_and_the_shipped_scenes_are_valid() {
     for kind in ["sphere", "plane", "triangle", "polygon", "box"] {
         assert!(kinds.contains(&kind), "every_type.ron lacks a {kind}");
     }
+    use penumbra::scene::LightDesc;
+    let light_kinds = [
+        ("Point", (|l| matches!(l, LightDesc::Point { .. })) as fn(&LightDesc) -> bool),
+        ("Directional", |l| matches!(l, LightDesc::Directional { .. })),
+        ("Rect", |l| matches!(l, LightDesc::Rect { .. })),
+        ("Disk", |l| matches!(l, LightDesc::Disk { .. })),
+    ];
+    for (kind, is_kind) in light_kinds {
+        assert!(every.lights.iter().any(is_kind), "every_type.ron lacks a {kind} light");
+    }
+    assert!(every.camera.aperture > 0.0 && every.camera.focus_on.is_some(), "every_type.ron lacks depth of field");
 }
 
 #[test]
