@@ -106,7 +106,10 @@ fn the_base_scene_and_the_shipped_scenes_are_valid() {
     for (kind, is_kind) in light_kinds {
         assert!(every.lights.iter().any(is_kind), "every_type.ron lacks a {kind} light");
     }
-    assert!(every.camera.aperture > 0.0 && every.camera.focus_on.is_some(), "every_type.ron lacks depth of field");
+    assert!(
+        every.camera.aperture > 0.0 && every.camera.focus_on.is_some(),
+        "every_type.ron lacks depth of field"
+    );
 }
 
 #[test]
@@ -490,15 +493,24 @@ fn every_effect_field_is_read_as_written() {
     assert_eq!((camera.aperture, camera.focus_distance, camera.focus_on), (0.1, Some(5.0), None));
     assert_eq!((camera.lens.samples, camera.lens.pattern), (4, Pattern::Grid));
     let settings = &scene.settings;
-    assert_eq!((settings.aa.samples, settings.aa.pattern, settings.aa.filter), (16, Pattern::Random, Filter::Tent));
+    assert_eq!(
+        (settings.aa.samples, settings.aa.pattern, settings.aa.filter),
+        (16, Pattern::Random, Filter::Tent)
+    );
     let adaptive = settings.adaptive.expect("adaptive is on");
     assert_eq!((adaptive.threshold, adaptive.max_depth), (0.1, 2));
     assert_eq!((settings.glossy.samples, settings.glossy.pattern), (4, Pattern::Jittered));
     assert!(matches!(scene.lights[0], LightDesc::Rect { samples: 16, pattern: Pattern::Jittered, .. }));
-    assert!(matches!(scene.lights[1], LightDesc::Disk { radius: 0.5, samples: 8, pattern: Pattern::Grid, .. }));
+    assert!(matches!(
+        scene.lights[1],
+        LightDesc::Disk { radius: 0.5, samples: 8, pattern: Pattern::Grid, .. }
+    ));
     let text = effects(10, "focus_distance: 5.0", "focus_on: (0.0, 0.5, 0.0)");
     let scene = parse_scene(&text, "ok.ron").unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!((scene.camera.focus_distance, scene.camera.focus_on), (None, Some(glam::Vec3::new(0.0, 0.5, 0.0))));
+    assert_eq!(
+        (scene.camera.focus_distance, scene.camera.focus_on),
+        (None, Some(glam::Vec3::new(0.0, 0.5, 0.0)))
+    );
 }
 
 #[test]
@@ -518,8 +530,10 @@ fn every_effect_field_has_its_default_when_absent() {
     let text = edit_text(&text, 14, "(samples: 16, pattern: Random, filter: Tent)", "(samples: 4)");
     let text = edit_text(&text, 15, "(threshold: 0.1, max_depth: 2)", "()");
     let text = edit_text(&text, 16, "(samples: 4, pattern: Jittered)", "(pattern: Grid)");
-    let text = edit_text(&text, 20, ", colour: (1.0, 1.0, 1.0), intensity: 1.0, samples: 16, pattern: Jittered", "");
-    let text = edit_text(&text, 21, ", colour: (1.0, 1.0, 1.0), intensity: 1.0, samples: 8, pattern: Grid", "");
+    let text =
+        edit_text(&text, 20, ", colour: (1.0, 1.0, 1.0), intensity: 1.0, samples: 16, pattern: Jittered", "");
+    let text =
+        edit_text(&text, 21, ", colour: (1.0, 1.0, 1.0), intensity: 1.0, samples: 8, pattern: Grid", "");
     let scene = parse_scene(&text, "partial.ron").unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(scene.camera.lens, SamplingDesc { samples: 1, pattern: Pattern::Grid });
     assert_eq!(scene.settings.aa, AaDesc { samples: 4, pattern: Pattern::Jittered, filter: Filter::Box });
@@ -614,7 +628,13 @@ fn adaptive_threshold_is_non_negative_and_depth_is_1_to_6() {
     for bad in ["0", "7"] {
         let text = effects(15, "max_depth: 2", &format!("max_depth: {bad}"));
         let at = format!("max_depth: |{bad})");
-        assert_invalid(&text, 15, &at, "settings.adaptive.max_depth", &["must be in 1..=6", &format!("got {bad}")]);
+        assert_invalid(
+            &text,
+            15,
+            &at,
+            "settings.adaptive.max_depth",
+            &["must be in 1..=6", &format!("got {bad}")],
+        );
     }
     parse_scene(&effects(15, "threshold: 0.1, max_depth: 2", "threshold: 0.0, max_depth: 6"), "ok.ron")
         .unwrap_or_else(|e| panic!("{e}"));
@@ -627,7 +647,13 @@ fn rect_light_edges_are_non_zero() {
     let text = effects(20, "edge_v: (0.0, 0.0, 2.0)", "edge_v: (0.0, 0.0, 0.0)");
     assert_invalid(&text, 20, "(0.0, 0.0, 0.0), colour", "lights[0].edge_v", &["must be non-zero"]);
     let text = effects(20, "corner: (-1.0, 4.0, -1.0)", "corner: (-1.0, 4.0, inf)");
-    assert_invalid(&text, 20, "(-1.0, 4.0, inf)", "lights[0].corner", &["must be a finite number", "z = inf"]);
+    assert_invalid(
+        &text,
+        20,
+        "(-1.0, 4.0, inf)",
+        "lights[0].corner",
+        &["must be a finite number", "z = inf"],
+    );
 }
 
 #[test]
@@ -695,7 +721,13 @@ fn wrong_types_in_effect_fields_say_what_was_expected() {
     let text = effects(14, "filter: Tent", "filter: \"Tent\"");
     assert_invalid(&text, 14, "\"Tent\"", "settings.aa.filter", &["expected a filter: `Box` or `Tent`"]);
     let text = effects(14, "filter: Tent", "filter: Gauss");
-    assert_invalid(&text, 14, "Gauss", "settings.aa.filter", &["unknown variant `Gauss`; expected one of `Box`, `Tent`"]);
+    assert_invalid(
+        &text,
+        14,
+        "Gauss",
+        "settings.aa.filter",
+        &["unknown variant `Gauss`; expected one of `Box`, `Tent`"],
+    );
     let text = effects(21, "samples: 8", "samples: 2.5");
     assert_invalid(&text, 21, "2.5", "lights[1].samples", &["expected a whole number (32-bit, unsigned)"]);
     let text = effects(10, "focus_distance: 5.0", "focus_on: (0.0, 0.0)");

@@ -7,9 +7,12 @@
 //! ```ron
 //! Scene(
 //!     camera: (position: (0, 1.5, -6), look_at: (0, 0.8, 0), up: (0, 1, 0),
-//!              fov_deg: 45, width: 640, height: 480),
+//!              fov_deg: 45, width: 640, height: 480,
+//!              aperture: 0.1, focus_on: (0, 1, 0), lens: (samples: 8, pattern: Jittered)),
 //!     settings: (max_depth: 5, min_contribution: 0.001, background: (0.05, 0.07, 0.1),
-//!                ambient: (0.1, 0.1, 0.1), seed: 7),
+//!                ambient: (0.1, 0.1, 0.1), seed: 7,
+//!                aa: (samples: 4, pattern: Jittered, filter: Box), adaptive: None,
+//!                glossy: (samples: 8)),
 //!     materials: [
 //!         (name: "matte", kd: (0.8, 0.2, 0.2)),
 //!         (name: "mirror", kd: (0.05, 0.05, 0.05), ks: 0.9, shininess: 200, kr: 0.9),
@@ -18,6 +21,8 @@
 //!     lights: [
 //!         Point(position: (-4, 6, -3), colour: (1, 1, 1), intensity: 0.8),
 //!         Directional(direction: (1, -1, 1), colour: (1, 0.95, 0.9), intensity: 0.3),
+//!         Rect(corner: (-1, 4, -1), edge_u: (2, 0, 0), edge_v: (0, 0, 1), samples: 16),
+//!         Disk(centre: (2, 3, 0), normal: (0, -1, 0), radius: 0.5, pattern: Grid),
 //!     ],
 //!     objects: [
 //!         (name: "floor", shape: Plane(point: (0, 0, 0), normal: (0, 1, 0)), material: "matte"),
@@ -31,7 +36,8 @@
 //! ```
 //!
 //! Vectors and colours are RON tuples `(x, y, z)`; integers are accepted where floats are
-//! expected. Colours are linear RGB.
+//! expected. Colours are linear RGB. Sample patterns ([`Pattern`]) and filters ([`Filter`])
+//! are the sampler's own types, written as bare names.
 
 use glam::Vec3;
 use serde::{Deserialize, Deserializer};

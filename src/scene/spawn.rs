@@ -97,10 +97,9 @@ pub fn light_of(desc: &LightDesc) -> trace::Light {
             trace::Light::Directional { direction: direction.normalize(), radiance: colour * intensity }
         }
         // Stopgap until area lights are wired into the renderer: a point light at the centre.
-        LightDesc::Rect { corner, edge_u, edge_v, colour, intensity, .. } => trace::Light::Point {
-            position: corner + 0.5 * (edge_u + edge_v),
-            radiance: colour * intensity,
-        },
+        LightDesc::Rect { corner, edge_u, edge_v, colour, intensity, .. } => {
+            trace::Light::Point { position: corner + 0.5 * (edge_u + edge_v), radiance: colour * intensity }
+        }
         LightDesc::Disk { centre, colour, intensity, .. } => {
             trace::Light::Point { position: centre, radiance: colour * intensity }
         }

@@ -245,7 +245,8 @@ fn light(path: &FieldPath, light: &LightDesc) -> Check {
             non_zero_vec(path, "edge_v", *edge_v)?;
             let (u, v) = (edge_u.as_dvec3(), edge_v.as_dvec3());
             if u.cross(v).length() < DEGENERATE_TOLERANCE * u.length() * v.length() {
-                let rule = format!("must not be parallel to `edge_u` = {}, got {}", vec(*edge_u), vec(*edge_v));
+                let rule =
+                    format!("must not be parallel to `edge_u` = {}, got {}", vec(*edge_u), vec(*edge_v));
                 return fail(path, "edge_v", rule);
             }
             (colour, intensity, Some(samples))
