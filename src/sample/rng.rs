@@ -386,4 +386,35 @@ mod tests {
         assert_ne!(a, b);
         assert_ne!(a, (0..64).collect::<Vec<_>>());
     }
+
+    #[test]
+    fn permute_over_many_seeds_looks_like_a_random_permutation() {
+        const SEEDS: u64 = 10_000;
+        for n in [2u32, 4, 8, 16, 64, 100] {
+            let (mut fixed, mut displacement) = (0u64, 0u64);
+            for seed in 0..SEEDS {
+                for i in 0..n {
+                    let j = permute(i, n, seed);
+                    fixed += u64::from(i == j);
+                    displacement += u64::from(i.abs_diff(j));
+                }
+            }
+            // A uniform random permutation has 1 fixed point and mean |i - π(i)| of (n²-1)/3n.
+            let fixed = fixed as f64 / SEEDS as f64;
+            let mean_disp = displacement as f64 / (SEEDS as f64 * f64::from(n));
+            let expected_disp = f64::from(n * n - 1) / (3.0 * f64::from(n));
+            assert!((fixed - 1.0).abs() < 0.05, "n {n}: {fixed} fixed points");
+            assert!((mean_disp / expected_disp - 1.0).abs() < 0.02, "n {n}: {mean_disp}");
+        }
+    }
+
+    #[test]
+    fn hash_values_are_frozen_so_images_stay_reproducible_across_versions() {
+        let k = key(42, 3, 1234, 5);
+        assert_eq!(hash(&SampleKey::default(), 0, 0), 0x1957_a760_4e21_5178);
+        assert_eq!(hash(&k, 6, 7), 0x0135_d5fd_b61b_58bc);
+        assert_eq!(uniform2(&k, 6, 7), Vec2::new(0.0047276616, 0.99105996));
+        let p: Vec<u32> = (0..8).map(|i| permute(i, 8, 0)).collect();
+        assert_eq!(p, [3, 2, 6, 4, 5, 1, 7, 0]);
+    }
 }
