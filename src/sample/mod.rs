@@ -4,6 +4,15 @@
 //! the mirror or refracted direction (glossy and blurry surfaces) and the lens (depth of field).
 //! Adaptive supersampling refines pixels by recursive corner subdivision.
 
+pub mod adaptive;
+pub mod pattern;
+pub mod rng;
+pub mod warp;
+
+pub use adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint};
+pub use pattern::{disk_point, sample_square, square_point, square_points, strata};
+pub use rng::{hash, permute, uniform, uniform2, SampleKey, SampleStream};
+
 use serde::Deserialize;
 
 /// How `n` points are placed over the unit square (and, through the concentric map, the disk).

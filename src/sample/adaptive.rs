@@ -1,0 +1,362 @@
+//! Adaptive supersampling by recursive corner subdivision (the seed report's rule).
+//!
+//! The caller traces the `(W+1) × (H+1)` lattice of pixel corners once. For each pixel,
+//! [`refine_pixel`] looks at a square's four corner colours: where any two differ by more than
+//! the threshold in some channel, and the square is shallower than `max_depth`, it splits into
+//! four, needing its centre and four edge midpoints. The pixel's value is the area-weighted
+//! mean of the leaf squares, each leaf the mean of its corners.
+//!
+//! Every sample point sits on an integer lattice of `R = 2^max_depth` steps per pixel
+//! ([`LatticePoint`]), so points shared between sub-squares and between neighbouring pixels
+//! have one name and are traced once through a shared cache. Because `trace` is a pure
+//! function of the lattice point, the result does not depend on refinement order or on what the
+//! cache already holds.
+
+use glam::{Vec2, Vec3};
+use std::collections::HashMap;
+use std::ops::{Add, AddAssign};
+
+/// Settings of adaptive supersampling.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AdaptiveSettings {
+    /// A square splits when two of its corners differ by more than this in some channel.
+    pub threshold: f32,
+    /// Deepest subdivision level: the finest squares are `2^-max_depth` pixels wide.
+    pub max_depth: u32,
+}
+
+impl AdaptiveSettings {
+    /// The deepest level honoured; `max_depth` above it is treated as this (`4^12` leaves per
+    /// pixel is far past any useful refinement and keeps lattice coordinates well inside `u32`
+    /// for images up to 2²⁰ pixels wide).
+    pub const DEPTH_LIMIT: u32 = 12;
+
+    /// The effective depth, `max_depth` capped at [`Self::DEPTH_LIMIT`].
+    pub fn depth(&self) -> u32 {
+        self.max_depth.min(Self::DEPTH_LIMIT)
+    }
+
+    /// Lattice steps per pixel, `R = 2^depth()`.
+    pub fn resolution(&self) -> u32 {
+        1 << self.depth()
+    }
+
+    /// The lattice point of pixel corner `(x, y)` (corner `(W, H)` is the image's far corner).
+    pub fn corner(&self, x: u32, y: u32) -> LatticePoint {
+        let r = self.resolution();
+        debug_assert!(
+            x.checked_mul(r).is_some() && y.checked_mul(r).is_some(),
+            "pixel ({x}, {y}) is outside the u32 lattice at resolution {r}"
+        );
+        LatticePoint { x: x.wrapping_mul(r), y: y.wrapping_mul(r) }
+    }
+}
+
+impl Default for AdaptiveSettings {
+    fn default() -> Self {
+        Self { threshold: 0.1, max_depth: 3 }
+    }
+}
+
+/// A sample position on the finest lattice: image position `(x / R, y / R)` in pixels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct LatticePoint {
+    /// Column, in `1/R` pixel steps from the image's left edge.
+    pub x: u32,
+    /// Row, in `1/R` pixel steps from the image's top edge.
+    pub y: u32,
+}
+
+impl LatticePoint {
+    /// Image position in pixels for lattice resolution `resolution` (see
+    /// [`AdaptiveSettings::resolution`]).
+    pub fn position(self, resolution: u32) -> Vec2 {
+        let r = f64::from(resolution.max(1));
+        Vec2::new((f64::from(self.x) / r) as f32, (f64::from(self.y) / r) as f32)
+    }
+}
+
+/// Counts of the work adaptive refinement did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct AdaptiveStats {
+    /// Points traced (cache misses).
+    pub traced: u64,
+    /// Points found in the cache instead of traced.
+    pub reused: u64,
+    /// Squares split into four.
+    pub subdivisions: u64,
+}
+
+impl Add for AdaptiveStats {
+    type Output = Self;
+
+    fn add(self, rhs: Self) -> Self {
+        Self {
+            traced: self.traced + rhs.traced,
+            reused: self.reused + rhs.reused,
+            subdivisions: self.subdivisions + rhs.subdivisions,
+        }
+    }
+}
+
+impl AddAssign for AdaptiveStats {
+    fn add_assign(&mut self, rhs: Self) {
+        *self = *self + rhs;
+    }
+}
+
+/// The largest per-channel difference between any two of `corners`.
+fn contrast(corners: &[Vec3; 4]) -> f32 {
+    let hi = corners[1..].iter().fold(corners[0], |m, c| m.max(*c));
+    let lo = corners[1..].iter().fold(corners[0], |m, c| m.min(*c));
+    (hi - lo).max_element()
+}
+
+/// The recursion's fixed context: one pixel's refinement.
+struct Refiner<'a, F> {
+    threshold: f32,
+    depth: u32,
+    cache: &'a mut HashMap<LatticePoint, Vec3>,
+    trace: &'a mut F,
+    stats: &'a mut AdaptiveStats,
+}
+
+impl<F: FnMut(LatticePoint) -> Vec3> Refiner<'_, F> {
+    /// The colour at `(x, y)`: from the cache, else traced and remembered.
+    fn fetch(&mut self, x: u32, y: u32) -> Vec3 {
+        let p = LatticePoint { x, y };
+        if let Some(c) = self.cache.get(&p) {
+            self.stats.reused += 1;
+            return *c;
+        }
+        self.stats.traced += 1;
+        let c = (self.trace)(p);
+        self.cache.insert(p, c);
+        c
+    }
+
+    /// Mean colour over the square at `(x, y)` of side `size` at `level`, with corner colours
+    /// `c` in the order top-left, top-right, bottom-left, bottom-right.
+    fn square(&mut self, x: u32, y: u32, size: u32, c: [Vec3; 4], level: u32) -> Vec3 {
+        // A NaN contrast compares false, so it does not subdivide.
+        let split = contrast(&c) > self.threshold;
+        if level >= self.depth || !split {
+            return (c[0] + c[1] + c[2] + c[3]) * 0.25;
+        }
+        self.stats.subdivisions += 1;
+        let h = size / 2;
+        // Fixed fetch order, so `trace` sees a deterministic sequence for a given cache.
+        let top = self.fetch(x + h, y);
+        let left = self.fetch(x, y + h);
+        let centre = self.fetch(x + h, y + h);
+        let right = self.fetch(x + size, y + h);
+        let bottom = self.fetch(x + h, y + size);
+        let tl = self.square(x, y, h, [c[0], top, left, centre], level + 1);
+        let tr = self.square(x + h, y, h, [top, c[1], centre, right], level + 1);
+        let bl = self.square(x, y + h, h, [left, centre, c[2], bottom], level + 1);
+        let br = self.square(x + h, y + h, h, [centre, right, bottom, c[3]], level + 1);
+        (tl + tr + bl + br) * 0.25
+    }
+}
+
+/// The adaptively supersampled colour of pixel `(px, py)`.
+///
+/// `corners` are the colours already traced at the pixel's corners, in the order (0,0), (1,0),
+/// (0,1), (1,1): top-left, top-right, bottom-left, bottom-right. Points inside are looked up in
+/// `cache` (counted as `reused`) or traced with `trace` (counted as `traced`) and inserted.
+/// `trace` must be a pure function of the lattice point; then the result is independent of
+/// the order pixels are refined in and of the cache's contents, bit for bit.
+///
+/// # Examples
+/// ```
+/// use penumbra::sample::adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats};
+/// use glam::Vec3;
+/// use std::collections::HashMap;
+/// let settings = AdaptiveSettings { threshold: 0.1, max_depth: 3 };
+/// let r = settings.resolution() as f32;
+/// // White left of x = 0.5 pixels, black right of it.
+/// let mut trace = |p: penumbra::sample::adaptive::LatticePoint| {
+///     if (p.x as f32 / r) < 0.5 { Vec3::ONE } else { Vec3::ZERO }
+/// };
+/// let corners = [Vec3::ONE, Vec3::ZERO, Vec3::ONE, Vec3::ZERO];
+/// let (mut cache, mut stats) = (HashMap::new(), AdaptiveStats::default());
+/// let c = refine_pixel(0, 0, corners, &settings, &mut cache, &mut trace, &mut stats);
+/// assert!((c.x - 0.5).abs() <= 1.0 / 8.0);
+/// assert!(stats.subdivisions > 0);
+/// ```
+pub fn refine_pixel(
+    px: u32,
+    py: u32,
+    corners: [Vec3; 4],
+    settings: &AdaptiveSettings,
+    cache: &mut HashMap<LatticePoint, Vec3>,
+    trace: &mut impl FnMut(LatticePoint) -> Vec3,
+    stats: &mut AdaptiveStats,
+) -> Vec3 {
+    let origin = settings.corner(px, py);
+    let mut refiner = Refiner { threshold: settings.threshold, depth: settings.depth(), cache, trace, stats };
+    refiner.square(origin.x, origin.y, settings.resolution(), corners, 0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The corner colours of pixel `(px, py)` under `trace`, in `refine_pixel`'s order.
+    fn corners_of(
+        px: u32,
+        py: u32,
+        settings: &AdaptiveSettings,
+        trace: &mut impl FnMut(LatticePoint) -> Vec3,
+    ) -> [Vec3; 4] {
+        [(0, 0), (1, 0), (0, 1), (1, 1)].map(|(dx, dy)| trace(settings.corner(px + dx, py + dy)))
+    }
+
+    #[test]
+    fn flat_colour_traces_nothing_and_returns_the_colour() {
+        let settings = AdaptiveSettings { threshold: 0.0, max_depth: 6 };
+        let colour = Vec3::new(0.2, 0.5, 0.9);
+        let mut calls = 0;
+        let mut trace = |_: LatticePoint| {
+            calls += 1;
+            colour
+        };
+        let (mut cache, mut stats) = (HashMap::new(), AdaptiveStats::default());
+        let c = refine_pixel(3, 4, [colour; 4], &settings, &mut cache, &mut trace, &mut stats);
+        assert_eq!(c, colour);
+        assert_eq!(calls, 0);
+        assert_eq!(stats, AdaptiveStats::default());
+        assert!(cache.is_empty());
+    }
+
+    #[test]
+    fn contrast_equal_to_the_threshold_does_not_subdivide_and_depth_zero_never_does() {
+        let corners = [Vec3::ZERO, Vec3::splat(0.25), Vec3::ZERO, Vec3::ZERO];
+        let mut trace = |_: LatticePoint| -> Vec3 { panic!("nothing should be traced") };
+        let mut stats = AdaptiveStats::default();
+        for settings in [
+            AdaptiveSettings { threshold: 0.25, max_depth: 4 },
+            AdaptiveSettings { threshold: 0.0, max_depth: 0 },
+        ] {
+            let mut cache = HashMap::new();
+            let c = refine_pixel(0, 0, corners, &settings, &mut cache, &mut trace, &mut stats);
+            assert_eq!(c, Vec3::splat(0.0625));
+        }
+        assert_eq!(stats, AdaptiveStats::default());
+    }
+
+    #[test]
+    fn vertical_edge_subdivides_only_along_the_edge_and_matches_its_coverage() {
+        const DEPTH: u32 = 5;
+        let settings = AdaptiveSettings { threshold: 0.5, max_depth: DEPTH };
+        let r = settings.resolution();
+        // Pixel (2, 1); white left of image x = 2.3, black right of it: coverage 0.3.
+        let edge = 2.3f32;
+        let colour = |p: LatticePoint| {
+            if p.position(r).x < edge {
+                Vec3::ONE
+            } else {
+                Vec3::ZERO
+            }
+        };
+        let corners = corners_of(2, 1, &settings, &mut { colour });
+        let mut traced_x = Vec::new();
+        let mut trace = |p: LatticePoint| {
+            traced_x.push(p.position(r).x);
+            colour(p)
+        };
+        let (mut cache, mut stats) = (HashMap::new(), AdaptiveStats::default());
+        let c = refine_pixel(2, 1, corners, &settings, &mut cache, &mut trace, &mut stats);
+        assert!((c.x - 0.3).abs() <= 1.0 / (1u32 << DEPTH) as f32, "{c}");
+        assert!(c.x == c.y && c.y == c.z);
+        // One column of squares straddles the edge at each level: 1 + 2 + … + 2^(D-1).
+        assert_eq!(stats.subdivisions, (1 << DEPTH) - 1);
+        // Level d splits the 2^d squares of the edge's column, adding 2^d centres, 2^d left and
+        // 2^d right midpoints and 2^d + 1 top/bottom midpoints: 4·(2^D - 1) + D points in all,
+        // against (2^D + 1)² - 4 = 1085 for uniform subdivision.
+        assert_eq!(stats.traced, 4 * ((1 << DEPTH) - 1) + u64::from(DEPTH));
+        assert_eq!(traced_x.len() as u64, stats.traced);
+        // Past level 0 (the whole pixel) everything traced is in the left half, near the edge.
+        assert!(traced_x.iter().all(|x| (2.0..=3.0).contains(x)));
+        assert_eq!(traced_x.iter().filter(|x| **x > 2.5).count(), 1, "{traced_x:?}");
+    }
+
+    #[test]
+    fn shared_midpoints_are_traced_once_within_and_across_pixels() {
+        // A negative threshold subdivides everything: depth 2 visits all 5×5 lattice points.
+        let settings = AdaptiveSettings { threshold: -1.0, max_depth: 2 };
+        let mut calls: HashMap<LatticePoint, u32> = HashMap::new();
+        let mut trace = |p: LatticePoint| {
+            *calls.entry(p).or_default() += 1;
+            Vec3::new(p.x as f32, p.y as f32, 0.0)
+        };
+        let mut cache = HashMap::new();
+        let mut first = AdaptiveStats::default();
+        refine_pixel(0, 0, [Vec3::ZERO; 4], &settings, &mut cache, &mut trace, &mut first);
+        // 25 points less the 4 given corners; 5 lookups in each of 5 squares, 4 of them repeats.
+        assert_eq!(first, AdaptiveStats { traced: 21, reused: 4, subdivisions: 5 });
+        let mut second = AdaptiveStats::default();
+        refine_pixel(1, 0, [Vec3::ZERO; 4], &settings, &mut cache, &mut trace, &mut second);
+        // The three interior points of the shared edge come from the first pixel.
+        assert_eq!(second, AdaptiveStats { traced: 18, reused: 7, subdivisions: 5 });
+        assert_eq!(first + second, AdaptiveStats { traced: 39, reused: 11, subdivisions: 10 });
+        assert!(calls.values().all(|&n| n == 1));
+        assert_eq!(calls.len(), 39);
+    }
+
+    /// A pure scene on the lattice: a disc edge, a hard line and a gradient.
+    fn scene(r: u32) -> impl FnMut(LatticePoint) -> Vec3 {
+        move |p: LatticePoint| {
+            let q = p.position(r);
+            let disc = if (q - Vec2::new(2.7, 1.9)).length() < 1.6 { 1.0 } else { 0.0 };
+            let line = if q.x + 0.37 * q.y > 4.1 { 0.8 } else { 0.1 };
+            Vec3::new(disc, line, q.x / 6.0)
+        }
+    }
+
+    /// Refines pixels of a 6×4 image in `order`, sharing `cache`; returns colour bits by pixel id
+    /// (zero for pixels not in `order`).
+    fn refine_image(
+        order: &[u32],
+        settings: &AdaptiveSettings,
+        cache: &mut HashMap<LatticePoint, Vec3>,
+        stats: &mut AdaptiveStats,
+    ) -> Vec<[u32; 3]> {
+        let mut trace = scene(settings.resolution());
+        let mut out = vec![[0; 3]; 24];
+        for &id in order {
+            let (px, py) = (id % 6, id / 6);
+            let corners = corners_of(px, py, settings, &mut trace);
+            let c = refine_pixel(px, py, corners, settings, cache, &mut trace, stats);
+            out[id as usize] = c.to_array().map(f32::to_bits);
+        }
+        out
+    }
+
+    #[test]
+    fn refinement_order_and_cache_contents_do_not_change_a_bit() {
+        let settings = AdaptiveSettings { threshold: 0.05, max_depth: 4 };
+        let forward: Vec<u32> = (0..24).collect();
+        let reverse: Vec<u32> = forward.iter().rev().copied().collect();
+        let (mut fwd_cache, mut fwd_stats) = (HashMap::new(), AdaptiveStats::default());
+        let a = refine_image(&forward, &settings, &mut fwd_cache, &mut fwd_stats);
+        let (mut rev_cache, mut rev_stats) = (HashMap::new(), AdaptiveStats::default());
+        let b = refine_image(&reverse, &settings, &mut rev_cache, &mut rev_stats);
+        assert_eq!(a, b);
+        assert!(fwd_stats.subdivisions > 24, "the scene should need refinement");
+        // Each distinct point is traced once whatever the order.
+        assert_eq!(fwd_stats.traced, rev_stats.traced);
+        assert_eq!(fwd_stats.traced, fwd_cache.len() as u64);
+        assert_eq!(fwd_stats.subdivisions, rev_stats.subdivisions);
+        // A fresh cache per pixel, and a cache already full, give the same bits too.
+        for id in 0..24u32 {
+            let (mut fresh, mut stats) = (HashMap::new(), AdaptiveStats::default());
+            let alone = refine_image(&[id], &settings, &mut fresh, &mut stats);
+            assert_eq!(alone[id as usize], a[id as usize], "pixel {id}");
+        }
+        let mut full_stats = AdaptiveStats::default();
+        let c = refine_image(&forward, &settings, &mut fwd_cache, &mut full_stats);
+        assert_eq!(a, c);
+        assert_eq!(full_stats.traced, 0);
+    }
+}

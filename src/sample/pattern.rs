@@ -1,0 +1,305 @@
+//! Point sets over the unit square and disk: the `n` points of a [`Pattern`], addressed one at
+//! a time so a caller can revisit any of them.
+//!
+//! Strata come from [`strata`]: an `nx × ny` grid with `nx * ny == n` exactly, as close to
+//! square as `n`'s divisors allow (a prime `n` gives `n × 1` strips). Point `i` belongs to
+//! stratum `i` in row-major order. Like pbrt's `StratifiedSampler`, [`sample_square`] shuffles
+//! which stratum a camera sample gets, independently per dimension, with [`permute`] so that
+//! the strata of different dimensions (pixel, lens, light) are not paired up.
+
+use super::rng::{hash, permute, uniform2, SampleKey};
+use super::warp::{concentric_disk, ONE_MINUS_EPSILON};
+use super::Pattern;
+use glam::Vec2;
+
+/// The stratum grid `(nx, ny)` for `n` points: `nx * ny == n`, `nx ≥ ny`, `ny` the largest
+/// divisor of `n` not above `√n`; `n == 0` is treated as 1.
+///
+/// # Examples
+/// ```
+/// use penumbra::sample::pattern::strata;
+/// assert_eq!(strata(12), (4, 3));
+/// assert_eq!(strata(7), (7, 1));
+/// assert_eq!(strata(0), (1, 1));
+/// ```
+pub fn strata(n: u32) -> (u32, u32) {
+    let n = n.max(1);
+    let mut ny = n.isqrt();
+    while n % ny != 0 {
+        ny -= 1;
+    }
+    (n / ny, ny)
+}
+
+/// The `[lo, hi)` bounds of cell `i` of `cells` equal cells of `[0, 1)`, as `f32`.
+fn cell_bounds(i: u32, cells: u32) -> (f32, f32) {
+    let size = cells as f32;
+    (i as f32 / size, (i + 1) as f32 / size)
+}
+
+/// The largest float below `x` (for `x > 0`).
+fn prev_float(x: f32) -> f32 {
+    f32::from_bits(x.to_bits() - 1)
+}
+
+/// Places `u ∈ [0,1)` inside cell `i` of `cells`, strictly below the cell's upper bound.
+fn jitter_in_cell(i: u32, cells: u32, u: f32) -> f32 {
+    let (lo, hi) = cell_bounds(i, cells);
+    (lo + u * (hi - lo)).clamp(lo, prev_float(hi))
+}
+
+/// The `i`-th of `n` points of `pattern` in `[0,1)²`, with `u ∈ [0,1)²` its random input.
+///
+/// Grid: the centre of stratum `i` (row-major over [`strata`]); Jittered: stratum `i`'s corner
+/// plus `u` times the stratum size; Random: `u`. Every result is strictly below 1. `i` is taken
+/// modulo `n`.
+///
+/// # Examples
+/// ```
+/// use penumbra::sample::{pattern::square_point, Pattern};
+/// use glam::Vec2;
+/// assert_eq!(square_point(Pattern::Grid, 4, 3, Vec2::ZERO), Vec2::new(0.75, 0.75));
+/// assert_eq!(square_point(Pattern::Jittered, 4, 1, Vec2::ZERO), Vec2::new(0.5, 0.0));
+/// ```
+pub fn square_point(pattern: Pattern, n: u32, i: u32, u: Vec2) -> Vec2 {
+    let (nx, ny) = strata(n);
+    let i = i % (nx * ny);
+    let (ix, iy) = (i % nx, i / nx);
+    let p = match pattern {
+        Pattern::Random => u,
+        Pattern::Grid => Vec2::new((ix as f32 + 0.5) / nx as f32, (iy as f32 + 0.5) / ny as f32),
+        Pattern::Jittered => Vec2::new(
+            jitter_in_cell(ix, nx, u.x.clamp(0.0, ONE_MINUS_EPSILON)),
+            jitter_in_cell(iy, ny, u.y.clamp(0.0, ONE_MINUS_EPSILON)),
+        ),
+    };
+    p.clamp(Vec2::ZERO, Vec2::splat(ONE_MINUS_EPSILON))
+}
+
+/// All `n` points of `pattern` for one key and dimension: point `i` uses
+/// `uniform2(key, dim, i)`.
+///
+/// # Examples
+/// ```
+/// use penumbra::sample::{pattern::square_points, rng::SampleKey, Pattern};
+/// let key = SampleKey { seed: 1, frame: 0, pixel: 0, sample: 0 };
+/// let points: Vec<_> = square_points(Pattern::Jittered, 9, &key, 0).collect();
+/// assert_eq!(points.len(), 9);
+/// ```
+pub fn square_points(
+    pattern: Pattern,
+    n: u32,
+    key: &SampleKey,
+    dim: u32,
+) -> impl Iterator<Item = glam::Vec2> {
+    let key = *key;
+    (0..n.max(1)).map(move |i| square_point(pattern, n, i, uniform2(&key, dim, i)))
+}
+
+/// The `i`-th of `n` points of `pattern` mapped onto the unit disk by the concentric map.
+pub fn disk_point(pattern: Pattern, n: u32, i: u32, u: Vec2) -> Vec2 {
+    concentric_disk(square_point(pattern, n, i, u))
+}
+
+/// Camera sample `key.sample` of `n` (one per pixel sample) in dimension `dim`, as pbrt's
+/// `StratifiedSampler`: the stratum is `permute(key.sample, n, …)` with a permutation seeded by
+/// everything but the sample number, so the `n` samples of a pixel cover every stratum once
+/// and different dimensions pair strata differently. The jitter is `uniform2(key, dim, 0)`.
+///
+/// # Examples
+/// ```
+/// use penumbra::sample::{pattern::sample_square, rng::SampleKey, Pattern};
+/// let key = |sample| SampleKey { seed: 3, frame: 0, pixel: 8, sample };
+/// let lens: Vec<_> = (0..16).map(|s| sample_square(Pattern::Jittered, 16, &key(s), 1)).collect();
+/// assert!(lens.iter().all(|p| p.x < 1.0 && p.y < 1.0));
+/// ```
+pub fn sample_square(pattern: Pattern, n: u32, key: &SampleKey, dim: u32) -> Vec2 {
+    let pixel_key = SampleKey { sample: 0, ..*key };
+    let stratum = permute(key.sample, n, hash(&pixel_key, dim, u32::MAX));
+    square_point(pattern, n, stratum, uniform2(key, dim, 0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f32::consts::PI;
+
+    const SIZES: [u32; 11] = [1, 2, 3, 4, 6, 7, 9, 12, 16, 64, 100];
+    const PATTERNS: [Pattern; 3] = [Pattern::Grid, Pattern::Random, Pattern::Jittered];
+
+    fn key(pixel: u32) -> SampleKey {
+        SampleKey { seed: 17, frame: 2, pixel, sample: 0 }
+    }
+
+    /// The stratum (row-major) containing `p`, under the bounds `square_point` uses.
+    fn stratum_of(p: Vec2, n: u32) -> u32 {
+        let (nx, ny) = strata(n);
+        let find = |x: f32, cells: u32| {
+            (0..cells)
+                .find(|&c| {
+                    let (lo, hi) = cell_bounds(c, cells);
+                    lo <= x && x < hi
+                })
+                .expect("every point of [0,1) is in some cell")
+        };
+        find(p.y, ny) * nx + find(p.x, nx)
+    }
+
+    #[test]
+    fn strata_multiply_to_n_and_are_as_square_as_possible() {
+        for n in 0..=1000u32 {
+            let (nx, ny) = strata(n);
+            assert_eq!(nx * ny, n.max(1));
+            assert!(nx >= ny);
+            let best = (1..=n.max(1)).filter(|d| n.max(1) % d == 0 && d * d <= n.max(1)).max();
+            assert_eq!(Some(ny), best, "n {n}");
+        }
+        assert_eq!(strata(16), (4, 4));
+        assert_eq!(strata(6), (3, 2));
+    }
+
+    #[test]
+    fn grid_and_jittered_put_exactly_one_point_in_each_stratum() {
+        for n in SIZES {
+            for pattern in [Pattern::Grid, Pattern::Jittered] {
+                for k in 0..50 {
+                    let mut seen = vec![false; n as usize];
+                    for (i, p) in square_points(pattern, n, &key(k), 0).enumerate() {
+                        let s = stratum_of(p, n);
+                        assert_eq!(s, i as u32, "{pattern:?} n {n}: point {i} at {p}");
+                        assert!(!seen[s as usize]);
+                        seen[s as usize] = true;
+                    }
+                    assert!(seen.iter().all(|&s| s), "{pattern:?} n {n}");
+                }
+                // Extreme jitter stays inside its stratum too.
+                for i in 0..n {
+                    for u in [Vec2::ZERO, Vec2::splat(ONE_MINUS_EPSILON)] {
+                        let p = square_point(pattern, n, i, u);
+                        assert_eq!(stratum_of(p, n), i, "{pattern:?} n {n} i {i} u {u}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn all_points_lie_in_the_half_open_unit_square() {
+        let in_square = |p: Vec2| (0.0..1.0).contains(&p.x) && (0.0..1.0).contains(&p.y);
+        for pattern in PATTERNS {
+            for n in SIZES {
+                for k in 0..20 {
+                    assert!(square_points(pattern, n, &key(k), 1).all(in_square));
+                }
+                for i in 0..n {
+                    for u in [Vec2::ZERO, Vec2::splat(ONE_MINUS_EPSILON), Vec2::ONE] {
+                        let p = square_point(pattern, n, i, u);
+                        assert!(in_square(p), "{pattern:?} n {n} i {i} u {u}: {p}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn random_and_jittered_means_converge_to_the_centre() {
+        for pattern in [Pattern::Random, Pattern::Jittered] {
+            let mut sum = glam::DVec2::ZERO;
+            let mut count = 0u32;
+            for k in 0..4000 {
+                for p in square_points(pattern, 16, &key(k), 0) {
+                    sum += p.as_dvec2();
+                    count += 1;
+                }
+            }
+            let mean = sum / f64::from(count);
+            assert!((mean - glam::DVec2::splat(0.5)).abs().max_element() < 0.005, "{pattern:?}: {mean}");
+        }
+    }
+
+    /// Variance over many keys of the `n`-point estimate of `∫∫ x·y = 1/4`.
+    fn estimator_variance(pattern: Pattern, n: u32) -> f64 {
+        const KEYS: u32 = 2000;
+        let estimates: Vec<f64> = (0..KEYS)
+            .map(|k| {
+                let sum: f64 = square_points(pattern, n, &key(k), 5).map(|p| f64::from(p.x * p.y)).sum();
+                sum / f64::from(n)
+            })
+            .collect();
+        let mean = estimates.iter().sum::<f64>() / f64::from(KEYS);
+        assert!((mean - 0.25).abs() < 0.01, "{pattern:?}: mean {mean}");
+        estimates.iter().map(|e| (e - mean).powi(2)).sum::<f64>() / f64::from(KEYS - 1)
+    }
+
+    #[test]
+    fn jittered_has_lower_variance_than_random_on_a_smooth_integrand() {
+        let random = estimator_variance(Pattern::Random, 16);
+        let jittered = estimator_variance(Pattern::Jittered, 16);
+        assert!(jittered < random / 4.0, "jittered {jittered} vs random {random}");
+    }
+
+    #[test]
+    fn sample_square_covers_every_stratum_once_per_pixel_and_decorrelates_dimensions() {
+        for n in SIZES {
+            let strata_in = |dim: u32| -> Vec<u32> {
+                (0..n)
+                    .map(|s| {
+                        let k = SampleKey { sample: s, ..key(9) };
+                        stratum_of(sample_square(Pattern::Jittered, n, &k, dim), n)
+                    })
+                    .collect()
+            };
+            let (a, b) = (strata_in(0), strata_in(1));
+            for order in [&a, &b] {
+                let mut sorted = order.clone();
+                sorted.sort_unstable();
+                assert_eq!(sorted, (0..n).collect::<Vec<_>>(), "n {n}");
+            }
+            if n >= 16 {
+                assert_ne!(a, b, "n {n}: dimensions pair strata identically");
+            }
+        }
+    }
+
+    #[test]
+    fn disk_points_lie_in_the_unit_disk_with_mean_at_the_origin() {
+        const N: u32 = 64_000;
+        let mut sum = Vec2::ZERO;
+        for i in 0..N {
+            let p = disk_point(Pattern::Random, N, i, uniform2(&key(0), 0, i));
+            assert!(p.length_squared() <= 1.0 + 1e-6, "{p}");
+            sum += p;
+        }
+        let mean = sum / N as f32;
+        assert!(mean.length() < 0.01, "{mean}");
+        for pattern in PATTERNS {
+            for i in 0..16 {
+                let p = disk_point(pattern, 16, i, Vec2::splat(ONE_MINUS_EPSILON));
+                assert!(p.length_squared() <= 1.0 + 1e-6, "{pattern:?}: {p}");
+            }
+        }
+    }
+
+    #[test]
+    fn disk_points_are_uniform_in_area_by_ring_and_sector_chi_square() {
+        const N: u32 = 64_000;
+        const RINGS: usize = 8;
+        const SECTORS: usize = 8;
+        // χ² critical value for 63 degrees of freedom at p = 0.001.
+        const CHI2_CRIT: f64 = 103.44;
+        for pattern in [Pattern::Random, Pattern::Jittered] {
+            let mut bins = [0u32; RINGS * SECTORS];
+            for i in 0..N {
+                let p = disk_point(pattern, N, i, uniform2(&key(1), 0, i));
+                // Equal-area rings: r² in [k/8, (k+1)/8).
+                let ring = ((p.length_squared() * RINGS as f32) as usize).min(RINGS - 1);
+                let angle = p.y.atan2(p.x) + PI;
+                let sector = ((angle / (2.0 * PI) * SECTORS as f32) as usize).min(SECTORS - 1);
+                bins[ring * SECTORS + sector] += 1;
+            }
+            let expected = f64::from(N) / (RINGS * SECTORS) as f64;
+            let chi2: f64 = bins.iter().map(|&b| (f64::from(b) - expected).powi(2) / expected).sum();
+            assert!(chi2 < CHI2_CRIT, "{pattern:?}: chi2 {chi2}");
+        }
+    }
+}

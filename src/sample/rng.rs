@@ -1,0 +1,420 @@
+//! Counter-based randomness: every random number is a pure function of
+//! `(seed, frame, pixel, sample, dimension, index)`, so an image is bit-identical for any thread
+//! count, tile order, shard or resume, and any sample can be revisited out of order.
+//!
+//! The hash absorbs the key one 64-bit word at a time, each followed by a full 64-bit
+//! finalizer (Stafford's "Mix13" variant of the SplitMix64/murmur3 finalizer):
+//!
+//! ```text
+//! h = mix(seed ^ K)
+//! h = mix(h ^ (pixel << 32 | sample))
+//! h = mix(h ^ (frame << 32 | dim))
+//! h = mix(h ^ index)
+//! ```
+//!
+//! `mix` is a bijection on `u64` with full avalanche (every input bit flips each output bit with
+//! probability ≈ ½), and `h ^ word` is a bijection in the word, so two keys that differ in exactly
+//! one field always hash differently, and neighbouring pixels, dimensions and indices are
+//! decorrelated. There is no generator state: [`SampleStream`] only counts dimensions.
+//!
+//! [`permute`] is Kensler's hashed permutation (pbrt's `PermutationElement`), used to shuffle
+//! stratum order independently per dimension.
+
+use glam::Vec2;
+
+/// Identifies one camera sample: the hash input shared by all dimensions along its path.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct SampleKey {
+    /// Seed of all randomness (from the render settings).
+    pub seed: u64,
+    /// Frame number.
+    pub frame: u32,
+    /// Pixel id, `y * width + x` (or a lattice id chosen by the caller).
+    pub pixel: u32,
+    /// Sample number within the pixel.
+    pub sample: u32,
+}
+
+/// Offset that keeps an all-zero key away from `mix`'s fixed point at zero (2⁶⁴ / φ).
+const SEED_OFFSET: u64 = 0x9E37_79B9_7F4A_7C15;
+
+/// Scale from a 24-bit integer to `[0, 1)`: `2⁻²⁴`.
+const INV_2_24: f32 = 1.0 / (1u32 << 24) as f32;
+
+/// Stafford's Mix13 64-bit finalizer: a bijection with full avalanche.
+#[inline]
+fn mix(mut z: u64) -> u64 {
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// A 64-bit hash of every field of `key`, the dimension `dim` and the point `index`.
+///
+/// # Examples
+/// ```
+/// use penumbra::sample::rng::{hash, SampleKey};
+/// let key = SampleKey { seed: 7, frame: 0, pixel: 12, sample: 3 };
+/// assert_eq!(hash(&key, 2, 0), hash(&key, 2, 0));
+/// assert_ne!(hash(&key, 2, 0), hash(&key, 3, 0));
+/// ```
+#[inline]
+pub fn hash(key: &SampleKey, dim: u32, index: u32) -> u64 {
+    let mut h = mix(key.seed ^ SEED_OFFSET);
+    h = mix(h ^ ((u64::from(key.pixel) << 32) | u64::from(key.sample)));
+    h = mix(h ^ ((u64::from(key.frame) << 32) | u64::from(dim)));
+    mix(h ^ u64::from(index))
+}
+
+/// Converts 24 random bits (the low 24 of `bits`) to a float in `[0, 1)`; exact, never 1.0.
+#[inline]
+fn unit_f32(bits: u64) -> f32 {
+    (bits & 0x00FF_FFFF) as f32 * INV_2_24
+}
+
+/// A uniform value in `[0, 1)` from the top 24 bits of [`hash`]; never returns 1.0.
+///
+/// # Examples
+/// ```
+/// use penumbra::sample::rng::{uniform, SampleKey};
+/// let u = uniform(&SampleKey::default(), 0, 0);
+/// assert!((0.0..1.0).contains(&u));
+/// ```
+#[inline]
+pub fn uniform(key: &SampleKey, dim: u32, index: u32) -> f32 {
+    unit_f32(hash(key, dim, index) >> 40)
+}
+
+/// Two independent uniform values in `[0, 1)`: bits 40..64 and 16..40 of one [`hash`].
+///
+/// The first component equals [`uniform`] for the same arguments.
+#[inline]
+pub fn uniform2(key: &SampleKey, dim: u32, index: u32) -> Vec2 {
+    let h = hash(key, dim, index);
+    Vec2::new(unit_f32(h >> 40), unit_f32(h >> 16))
+}
+
+/// Sequential allocation of dimensions along one camera sample's path.
+///
+/// Each call takes the next unused dimension id, so the values depend only on the key and the
+/// position in the sequence, never on what other samples or threads did.
+///
+/// # Examples
+/// ```
+/// use penumbra::sample::rng::{uniform, SampleKey, SampleStream};
+/// let key = SampleKey { seed: 1, frame: 0, pixel: 5, sample: 0 };
+/// let mut stream = SampleStream::new(key);
+/// let a = stream.next_1d(); // dimension 0
+/// let _lens = stream.next_2d(); // dimension 1
+/// assert_eq!(a, uniform(&key, 0, 0));
+/// assert_eq!(stream.take_dim(), 2);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct SampleStream {
+    key: SampleKey,
+    next_dim: u32,
+}
+
+impl SampleStream {
+    /// A stream for `key`, starting at dimension 0.
+    pub fn new(key: SampleKey) -> Self {
+        Self { key, next_dim: 0 }
+    }
+
+    /// The key this stream hashes.
+    pub fn key(&self) -> &SampleKey {
+        &self.key
+    }
+
+    /// Returns the next unused dimension id and advances past it.
+    pub fn take_dim(&mut self) -> u32 {
+        let dim = self.next_dim;
+        self.next_dim = self.next_dim.wrapping_add(1);
+        dim
+    }
+
+    /// One uniform value in `[0, 1)` from the next dimension (`index` 0).
+    pub fn next_1d(&mut self) -> f32 {
+        let dim = self.take_dim();
+        uniform(&self.key, dim, 0)
+    }
+
+    /// Two uniform values in `[0, 1)` from the next dimension (`index` 0).
+    pub fn next_2d(&mut self) -> Vec2 {
+        let dim = self.take_dim();
+        uniform2(&self.key, dim, 0)
+    }
+}
+
+/// The element at position `index` of a pseudo-random permutation of `0..n` chosen by `seed`.
+///
+/// For a fixed `(n, seed)`, `index ↦ permute(index, n, seed)` is a bijection on `0..n`
+/// (Kensler 2013, "Correlated Multi-Jittered Sampling", as pbrt's `PermutationElement`: a hash
+/// that is invertible on the next power of two, cycle-walked back into range). `index` is taken
+/// modulo `n`; `n == 0` is treated as 1. Unlike the C original, the final offset is added in
+/// 64 bits, so it stays a bijection when the 32-bit sum would wrap.
+///
+/// # Examples
+/// ```
+/// use penumbra::sample::rng::permute;
+/// let mut seen: Vec<u32> = (0..10).map(|i| permute(i, 10, 42)).collect();
+/// seen.sort_unstable();
+/// assert_eq!(seen, (0..10).collect::<Vec<_>>());
+/// ```
+pub fn permute(index: u32, n: u32, seed: u64) -> u32 {
+    let l = n.max(1);
+    // Fold the 64-bit seed into 32 well-mixed bits.
+    let p = (mix(seed ^ SEED_OFFSET) >> 32) as u32;
+    let mut w = l - 1;
+    w |= w >> 1;
+    w |= w >> 2;
+    w |= w >> 4;
+    w |= w >> 8;
+    w |= w >> 16;
+    let mut i = index % l;
+    // Every step is a bijection on the low bits under the mask `w`, so the loop visits a cycle
+    // of that bijection and stops at the first element inside `0..l`.
+    loop {
+        i ^= p;
+        i = i.wrapping_mul(0xe170_893d);
+        i ^= p >> 16;
+        i ^= (i & w) >> 4;
+        i ^= p >> 8;
+        i = i.wrapping_mul(0x0929_eb3f);
+        i ^= p >> 23;
+        i ^= (i & w) >> 1;
+        i = i.wrapping_mul(1 | p >> 27);
+        i = i.wrapping_mul(0x6935_fa69);
+        i ^= (i & w) >> 11;
+        i = i.wrapping_mul(0x74dc_b303);
+        i ^= (i & w) >> 2;
+        i = i.wrapping_mul(0x9e50_1cc3);
+        i ^= (i & w) >> 2;
+        i = i.wrapping_mul(0xc860_a3df);
+        i &= w;
+        i ^= i >> 5;
+        if i < l {
+            break;
+        }
+    }
+    ((u64::from(i) + u64::from(p)) % u64::from(l)) as u32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn key(seed: u64, frame: u32, pixel: u32, sample: u32) -> SampleKey {
+        SampleKey { seed, frame, pixel, sample }
+    }
+
+    /// Every (seed, frame, pixel, sample, dim) of a small box, in row-major order.
+    fn grid_of_inputs() -> Vec<(SampleKey, u32)> {
+        let mut out = Vec::new();
+        for seed in [0u64, 1, u64::MAX] {
+            for frame in 0..3 {
+                for pixel in [0u32, 1, 640, 641, 1_000_000] {
+                    for sample in 0..4 {
+                        for dim in 0..5 {
+                            out.push((key(seed, frame, pixel, sample), dim));
+                        }
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn revisiting_inputs_in_reverse_or_shuffled_order_gives_identical_values() {
+        let inputs = grid_of_inputs();
+        let forward: Vec<(u64, Vec2)> =
+            inputs.iter().map(|(k, d)| (hash(k, *d, 3), uniform2(k, *d, 3))).collect();
+        for i in (0..inputs.len()).rev() {
+            let (k, d) = inputs[i];
+            assert_eq!(forward[i], (hash(&k, d, 3), uniform2(&k, d, 3)));
+        }
+        let n = inputs.len() as u32;
+        for j in 0..n {
+            let i = permute(j, n, 99) as usize;
+            let (k, d) = inputs[i];
+            assert_eq!(forward[i], (hash(&k, d, 3), uniform2(&k, d, 3)));
+        }
+    }
+
+    #[test]
+    fn sample_stream_replays_the_same_sequence_from_the_key_alone() {
+        let k = key(5, 2, 77, 9);
+        let mut a = SampleStream::new(k);
+        let first: Vec<f32> = (0..8).map(|_| a.next_1d()).collect();
+        let pair = a.next_2d();
+        let mut b = SampleStream::new(k);
+        let second: Vec<f32> = (0..8).map(|_| b.next_1d()).collect();
+        assert_eq!(first, second);
+        assert_eq!(pair, b.next_2d());
+        assert_eq!(pair, uniform2(&k, 8, 0));
+        assert_eq!(*b.key(), k);
+        assert_eq!(b.take_dim(), 9);
+    }
+
+    #[test]
+    fn changing_any_one_field_changes_the_value() {
+        for base in grid_of_inputs() {
+            let (k, d) = base;
+            for index in [0u32, 7] {
+                let h = hash(&k, d, index);
+                let variants = [
+                    hash(&SampleKey { seed: k.seed ^ 1, ..k }, d, index),
+                    hash(&SampleKey { seed: k.seed ^ (1 << 63), ..k }, d, index),
+                    hash(&SampleKey { frame: k.frame + 1, ..k }, d, index),
+                    hash(&SampleKey { pixel: k.pixel ^ 1, ..k }, d, index),
+                    hash(&SampleKey { sample: k.sample + 1, ..k }, d, index),
+                    hash(&k, d + 1, index),
+                    hash(&k, d, index + 1),
+                ];
+                for v in variants {
+                    assert_ne!(h, v, "{k:?} dim {d} index {index}");
+                }
+            }
+        }
+        // The 24-bit floats differ too (a collision would be a 2⁻²⁴ fluke, not a pattern).
+        let k = key(3, 1, 10, 2);
+        let u = uniform(&k, 4, 0);
+        assert_ne!(u, uniform(&key(4, 1, 10, 2), 4, 0));
+        assert_ne!(u, uniform(&key(3, 2, 10, 2), 4, 0));
+        assert_ne!(u, uniform(&key(3, 1, 11, 2), 4, 0));
+        assert_ne!(u, uniform(&key(3, 1, 10, 3), 4, 0));
+        assert_ne!(u, uniform(&k, 5, 0));
+        assert_ne!(u, uniform(&k, 4, 1));
+    }
+
+    #[test]
+    fn uniform_is_in_the_unit_interval_with_mean_one_half_and_passes_chi_square() {
+        const N: u32 = 100_000;
+        const BINS: usize = 16;
+        // χ² critical value for 15 degrees of freedom at p = 0.001.
+        const CHI2_CRIT: f64 = 37.70;
+        let mut bins = [0u32; BINS];
+        let mut sum = 0.0f64;
+        for p in 0..N {
+            let u = uniform(&key(2024, 0, p, 0), 0, 0);
+            assert!((0.0..1.0).contains(&u));
+            sum += f64::from(u);
+            bins[(u * BINS as f32) as usize] += 1;
+        }
+        let mean = sum / f64::from(N);
+        assert!((mean - 0.5).abs() < 0.005, "mean {mean}");
+        let expected = f64::from(N) / BINS as f64;
+        let chi2: f64 = bins.iter().map(|&b| (f64::from(b) - expected).powi(2) / expected).sum();
+        assert!(chi2 < CHI2_CRIT, "chi2 {chi2}");
+    }
+
+    #[test]
+    fn uniform_never_returns_one() {
+        assert_eq!(unit_f32(u64::MAX), 1.0 - INV_2_24);
+        assert_eq!(unit_f32(0), 0.0);
+        assert!(unit_f32(u64::MAX) < 1.0);
+    }
+
+    fn correlation(pairs: impl Iterator<Item = (f32, f32)>) -> f64 {
+        let (mut n, mut sx, mut sy, mut sxx, mut syy, mut sxy) = (0.0f64, 0.0, 0.0, 0.0, 0.0, 0.0);
+        for (x, y) in pairs {
+            let (x, y) = (f64::from(x), f64::from(y));
+            n += 1.0;
+            sx += x;
+            sy += y;
+            sxx += x * x;
+            syy += y * y;
+            sxy += x * y;
+        }
+        let cov = sxy / n - (sx / n) * (sy / n);
+        let vx = sxx / n - (sx / n).powi(2);
+        let vy = syy / n - (sy / n).powi(2);
+        cov / (vx * vy).sqrt()
+    }
+
+    /// Correlations between neighbouring pixels, dimensions, indices and the two halves of
+    /// `uniform2`, over `n` keys with `seed`.
+    fn neighbour_correlations(seed: u64, n: u32) -> [(&'static str, f64); 4] {
+        let k = |p: u32| key(seed, 0, p, 0);
+        let pixels = correlation((0..n).map(|p| (uniform(&k(p), 0, 0), uniform(&k(p + 1), 0, 0))));
+        let dims = correlation((0..n).map(|p| (uniform(&k(p), 0, 0), uniform(&k(p), 1, 0))));
+        let indices = correlation((0..n).map(|i| (uniform(&k(0), 0, i), uniform(&k(0), 0, i + 1))));
+        let pair = correlation((0..n).map(|p| {
+            let v = uniform2(&k(p), 0, 0);
+            (v.x, v.y)
+        }));
+        [("pixels", pixels), ("dims", dims), ("indices", indices), ("uniform2", pair)]
+    }
+
+    #[test]
+    fn adjacent_pixels_dimensions_and_indices_are_uncorrelated() {
+        // At 100k values one standard error is 1/√100k ≈ 0.0032, so the 0.01 bound is ≈ 3σ and
+        // holds for this fixed seed (seed 11 gives -0.012 on dims by chance). The 1M-value check
+        // over several seeds (0.005 ≈ 5σ) is what rules out a structural correlation.
+        for (what, c) in neighbour_correlations(0, 100_000) {
+            assert!(c.abs() < 0.01, "{what}: corr {c}");
+        }
+        for seed in 0..4 {
+            for (what, c) in neighbour_correlations(seed, 1_000_000) {
+                assert!(c.abs() < 0.005, "seed {seed} {what}: corr {c}");
+            }
+        }
+    }
+
+    #[test]
+    fn permute_is_a_bijection_for_every_n_up_to_257_and_several_seeds() {
+        for seed in [0u64, 1, 2, 0xDEAD_BEEF, u64::MAX, 1 << 40] {
+            for n in 1..=257u32 {
+                let mut seen = vec![false; n as usize];
+                for i in 0..n {
+                    let j = permute(i, n, seed);
+                    assert!(j < n, "n {n} seed {seed}: {j}");
+                    assert!(!seen[j as usize], "n {n} seed {seed}: {j} twice");
+                    seen[j as usize] = true;
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn permute_treats_zero_length_as_one_and_depends_on_the_seed() {
+        assert_eq!(permute(0, 0, 5), 0);
+        assert_eq!(permute(3, 1, 5), 0);
+        let a: Vec<u32> = (0..64).map(|i| permute(i, 64, 1)).collect();
+        let b: Vec<u32> = (0..64).map(|i| permute(i, 64, 2)).collect();
+        assert_ne!(a, b);
+        assert_ne!(a, (0..64).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn permute_over_many_seeds_looks_like_a_random_permutation() {
+        const SEEDS: u64 = 10_000;
+        for n in [2u32, 4, 8, 16, 64, 100] {
+            let (mut fixed, mut displacement) = (0u64, 0u64);
+            for seed in 0..SEEDS {
+                for i in 0..n {
+                    let j = permute(i, n, seed);
+                    fixed += u64::from(i == j);
+                    displacement += u64::from(i.abs_diff(j));
+                }
+            }
+            // A uniform random permutation has 1 fixed point and mean |i - π(i)| of (n²-1)/3n.
+            let fixed = fixed as f64 / SEEDS as f64;
+            let mean_disp = displacement as f64 / (SEEDS as f64 * f64::from(n));
+            let expected_disp = f64::from(n * n - 1) / (3.0 * f64::from(n));
+            assert!((fixed - 1.0).abs() < 0.05, "n {n}: {fixed} fixed points");
+            assert!((mean_disp / expected_disp - 1.0).abs() < 0.02, "n {n}: {mean_disp}");
+        }
+    }
+
+    #[test]
+    fn hash_values_are_frozen_so_images_stay_reproducible_across_versions() {
+        let k = key(42, 3, 1234, 5);
+        assert_eq!(hash(&SampleKey::default(), 0, 0), 0x1957_a760_4e21_5178);
+        assert_eq!(hash(&k, 6, 7), 0x0135_d5fd_b61b_58bc);
+        assert_eq!(uniform2(&k, 6, 7), Vec2::new(0.0047276616, 0.99105996));
+        let p: Vec<u32> = (0..8).map(|i| permute(i, 8, 0)).collect();
+        assert_eq!(p, [3, 2, 6, 4, 5, 1, 7, 0]);
+    }
+}
