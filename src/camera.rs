@@ -1,11 +1,12 @@
-//! The pinhole camera: eye, orthonormal frame and vertical field of view.
+//! The camera: a pinhole, or a thin lens with an aperture and a focal plane (depth of field).
 
-use crate::math::{Ray, Vec3};
+use crate::math::{Ray, Vec2, Vec3};
 
-/// A pinhole camera. Image x grows right, y grows down; the view looks along `forward`.
+/// A pinhole or thin-lens camera. Image x grows right, y grows down; the view looks along
+/// `forward`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
-    /// Eye position.
+    /// Eye position (the lens centre).
     pub position: Vec3,
     /// Unit view direction.
     pub forward: Vec3,
@@ -15,27 +16,61 @@ pub struct Camera {
     pub up: Vec3,
     /// Vertical field of view in radians.
     pub fov_y: f32,
+    /// Lens radius; 0 is a pinhole (everything sharp).
+    pub aperture: f32,
+    /// Distance along `forward` of the plane in focus.
+    pub focus_distance: f32,
 }
 
 impl Camera {
-    /// A camera at `position` looking at `look_at`, with `up` as the rough up direction.
+    /// A pinhole camera at `position` looking at `look_at`, with `up` as the rough up direction.
     /// The caller guarantees `look_at ≠ position` and `up` not parallel to the view (validated on load).
     pub fn look_at(position: Vec3, look_at: Vec3, up: Vec3, fov_y: f32) -> Self {
         let forward = (look_at - position).normalize();
         let right = forward.cross(up).normalize();
         let up = right.cross(forward);
-        Self { position, forward, right, up, fov_y }
+        let focus_distance = (look_at - position).length();
+        Self { position, forward, right, up, fov_y, aperture: 0.0, focus_distance }
     }
 
-    /// The primary ray through continuous image coordinates `(px, py)` of a `width × height`
-    /// image (pixel `(i, j)` covers `[i, i+1) × [j, j+1)`; its centre is `(i + 0.5, j + 0.5)`).
+    /// The same camera with a thin lens of radius `aperture` focused at `focus_distance`.
+    pub fn with_lens(self, aperture: f32, focus_distance: f32) -> Self {
+        Self { aperture, focus_distance, ..self }
+    }
+
+    /// True when the camera has a finite aperture (rays need lens samples).
     #[inline]
-    pub fn ray(&self, px: f32, py: f32, width: u32, height: u32) -> Ray {
+    pub fn has_lens(&self) -> bool {
+        self.aperture > 0.0
+    }
+
+    /// Unnormalised direction through continuous image coordinates `(px, py)` of a
+    /// `width × height` image, with `forward` component 1 (pixel `(i, j)` covers
+    /// `[i, i+1) × [j, j+1)`; its centre is `(i + 0.5, j + 0.5)`).
+    #[inline]
+    fn direction(&self, px: f32, py: f32, width: u32, height: u32) -> Vec3 {
         let half_h = (0.5 * self.fov_y).tan();
         let half_w = half_h * width as f32 / height as f32;
         let sx = (2.0 * px / width as f32 - 1.0) * half_w;
         let sy = (1.0 - 2.0 * py / height as f32) * half_h;
-        Ray::new(self.position, (self.forward + sx * self.right + sy * self.up).normalize())
+        self.forward + sx * self.right + sy * self.up
+    }
+
+    /// The pinhole ray through image coordinates `(px, py)`.
+    #[inline]
+    pub fn ray(&self, px: f32, py: f32, width: u32, height: u32) -> Ray {
+        Ray::new(self.position, self.direction(px, py, width, height).normalize())
+    }
+
+    /// The thin-lens ray through image coordinates `(px, py)` leaving the lens at `lens`, a
+    /// point of the unit disk: it starts on the aperture and passes through the point where the
+    /// pinhole ray meets the plane in focus, so that plane is sharp for any aperture.
+    #[inline]
+    pub fn lens_ray(&self, px: f32, py: f32, width: u32, height: u32, lens: Vec2) -> Ray {
+        let d = self.direction(px, py, width, height);
+        let focus = self.position + d * self.focus_distance;
+        let origin = self.position + self.aperture * (lens.x * self.right + lens.y * self.up);
+        Ray::new(origin, (focus - origin).normalize())
     }
 }
 
@@ -53,5 +88,22 @@ mod tests {
         assert!(top.dir.y > 0.0);
         let right = cam.ray(100.0, 50.0, 100, 100);
         assert!(right.dir.x < 0.0, "right-handed, y up, looking down +z: right is -x");
+    }
+
+    #[test]
+    fn lens_rays_meet_the_pinhole_ray_on_the_focal_plane() {
+        let cam = Camera::look_at(Vec3::new(1.0, 2.0, 3.0), Vec3::new(0.0, 0.0, 10.0), Vec3::Y, 0.7)
+            .with_lens(0.4, 6.0);
+        let pin = cam.ray(13.0, 7.0, 40, 30);
+        let depth = 6.0 / pin.dir.dot(cam.forward);
+        let target = pin.at(depth);
+        for lens in [Vec2::ZERO, Vec2::new(1.0, 0.0), Vec2::new(-0.3, 0.8), Vec2::new(0.0, -1.0)] {
+            let r = cam.lens_ray(13.0, 7.0, 40, 30, lens);
+            let t = (target - r.origin).dot(r.dir);
+            assert!((r.at(t) - target).length() < 1e-4, "lens point {lens} misses the focus point");
+            assert!(((r.origin - cam.position).length() - 0.4 * lens.length()).abs() < 1e-5);
+        }
+        let centre = cam.lens_ray(13.0, 7.0, 40, 30, Vec2::ZERO);
+        assert!((centre.dir - pin.dir).length() < 1e-6, "the lens centre is the pinhole");
     }
 }

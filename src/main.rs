@@ -9,7 +9,8 @@ use anyhow::Context;
 use clap::{Args, Parser, Subcommand};
 
 use penumbra::film::{write_atomically, write_png};
-use penumbra::scene::{self, SceneDesc};
+use penumbra::sample::Pattern;
+use penumbra::scene::{self, AdaptiveDesc, LightDesc, SceneDesc};
 use penumbra::trace::{render, RenderStats};
 use penumbra::world::SceneWorld;
 
@@ -46,6 +47,80 @@ struct RenderArgs {
     /// Print detailed statistics and write them as JSON to this file.
     #[arg(long, value_name = "STATS.json")]
     stats: Option<PathBuf>,
+    /// Sample count of an effect, e.g. `--samples aa=16` (aa, lens, shadow, glossy; repeatable).
+    #[arg(long, value_name = "EFFECT=N", value_parser = parse_samples)]
+    samples: Vec<(Effect, u32)>,
+    /// Sample pattern of an effect, e.g. `--pattern lens=grid` (grid, random, jittered; repeatable).
+    #[arg(long, value_name = "EFFECT=PATTERN", value_parser = parse_pattern)]
+    pattern: Vec<(Effect, Pattern)>,
+    /// Adaptive supersampling with this corner threshold (`T`, or `T:DEPTH`, depth 1..=6, default 3).
+    #[arg(long, value_name = "T[:DEPTH]", value_parser = parse_adaptive, conflicts_with = "no_adaptive")]
+    adaptive: Option<(f32, u32)>,
+    /// Turn off adaptive supersampling set in the scene.
+    #[arg(long)]
+    no_adaptive: bool,
+    /// Lens radius (0 = pinhole).
+    #[arg(long, value_name = "R", value_parser = parse_aperture)]
+    aperture: Option<f32>,
+}
+
+/// An effect whose sampling the command line can set.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Effect {
+    Aa,
+    Lens,
+    Shadow,
+    Glossy,
+}
+
+fn split_effect(s: &str) -> Result<(Effect, &str), String> {
+    let (effect, value) = s.split_once('=').ok_or_else(|| format!("expected EFFECT=VALUE, got `{s}`"))?;
+    let effect = match effect {
+        "aa" => Effect::Aa,
+        "lens" => Effect::Lens,
+        "shadow" => Effect::Shadow,
+        "glossy" => Effect::Glossy,
+        other => return Err(format!("unknown effect `{other}`; expected aa, lens, shadow or glossy")),
+    };
+    Ok((effect, value))
+}
+
+fn parse_samples(s: &str) -> Result<(Effect, u32), String> {
+    let (effect, value) = split_effect(s)?;
+    match value.parse::<u32>() {
+        Ok(n) if (1..=4096).contains(&n) => Ok((effect, n)),
+        _ => Err(format!("sample count must be a whole number in 1..=4096, got `{value}`")),
+    }
+}
+
+fn parse_pattern(s: &str) -> Result<(Effect, Pattern), String> {
+    let (effect, value) = split_effect(s)?;
+    let pattern = match value {
+        "grid" => Pattern::Grid,
+        "random" => Pattern::Random,
+        "jittered" => Pattern::Jittered,
+        other => return Err(format!("unknown pattern `{other}`; expected grid, random or jittered")),
+    };
+    Ok((effect, pattern))
+}
+
+fn parse_adaptive(s: &str) -> Result<(f32, u32), String> {
+    let (threshold, depth) = s.split_once(':').unwrap_or((s, "3"));
+    let threshold = threshold.parse::<f32>().ok().filter(|t| t.is_finite() && *t >= 0.0);
+    let depth = depth.parse::<u32>().ok().filter(|d| (1..=6).contains(d));
+    match (threshold, depth) {
+        (Some(t), Some(d)) => Ok((t, d)),
+        _ => Err(format!(
+            "expected a threshold ≥ 0 and an optional depth in 1..=6 (`0.05` or `0.05:4`), got `{s}`"
+        )),
+    }
+}
+
+fn parse_aperture(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(r) if r.is_finite() && r >= 0.0 => Ok(r),
+        _ => Err(format!("aperture must be a finite number ≥ 0, got `{s}`")),
+    }
 }
 
 fn main() -> ExitCode {
@@ -70,6 +145,7 @@ fn run_render(args: &RenderArgs) -> anyhow::Result<()> {
         None => scene::default_scene(),
     };
     apply_size(&mut desc, args.width, args.height);
+    apply_effects(&mut desc, args);
     let load = started.elapsed().as_secs_f64();
 
     let pool = rayon::ThreadPoolBuilder::new()
@@ -106,6 +182,43 @@ fn apply_size(desc: &mut SceneDesc, width: Option<u32>, height: Option<u32>) {
         (Some(w), None) => (desc.camera.width, desc.camera.height) = (w, scaled(w as f64 * h0 / w0)),
         (None, Some(h)) => (desc.camera.width, desc.camera.height) = (scaled(h as f64 * w0 / h0), h),
         (None, None) => {}
+    }
+}
+
+/// Applies the sampling overrides of the command line to the scene.
+fn apply_effects(desc: &mut SceneDesc, args: &RenderArgs) {
+    for &(effect, n) in &args.samples {
+        match effect {
+            Effect::Aa => desc.settings.aa.samples = n,
+            Effect::Lens => desc.camera.lens.samples = n,
+            Effect::Glossy => desc.settings.glossy.samples = n,
+            Effect::Shadow => desc.lights.iter_mut().for_each(|l| {
+                if let LightDesc::Rect { samples, .. } | LightDesc::Disk { samples, .. } = l {
+                    *samples = n;
+                }
+            }),
+        }
+    }
+    for &(effect, p) in &args.pattern {
+        match effect {
+            Effect::Aa => desc.settings.aa.pattern = p,
+            Effect::Lens => desc.camera.lens.pattern = p,
+            Effect::Glossy => desc.settings.glossy.pattern = p,
+            Effect::Shadow => desc.lights.iter_mut().for_each(|l| {
+                if let LightDesc::Rect { pattern, .. } | LightDesc::Disk { pattern, .. } = l {
+                    *pattern = p;
+                }
+            }),
+        }
+    }
+    if let Some((threshold, max_depth)) = args.adaptive {
+        desc.settings.adaptive = Some(AdaptiveDesc { threshold, max_depth });
+    }
+    if args.no_adaptive {
+        desc.settings.adaptive = None;
+    }
+    if let Some(r) = args.aperture {
+        desc.camera.aperture = r;
     }
 }
 

@@ -6,11 +6,18 @@ use penumbra::accel::DEFAULT_LAMBDA;
 use penumbra::camera::Camera;
 use penumbra::geom::Shape;
 use penumbra::math::{Affine3A, Ray, Vec3};
+use penumbra::sample::SampleKey;
 use penumbra::store::{MaterialId, PlacedObject};
-use penumbra::trace::integrator::{radiance, PathContext};
+use penumbra::trace::integrator::{radiance, CameraSample, PathContext};
 use penumbra::trace::{render, Light, Material, RayCounts, RenderSettings, SceneTables, TraceScene};
 
 const TOL: f32 = 1e-5;
+
+/// Context of one deterministic path with up to 8 bounces and no contribution cut-off.
+fn path_context(rays: &mut RayCounts) -> PathContext<'_> {
+    let settings = RenderSettings { max_depth: 8, min_contribution: 0.0, ..Default::default() };
+    PathContext::new(&settings, CameraSample::single(SampleKey::default()), rays)
+}
 
 fn object(shape: Shape, material: u32) -> PlacedObject {
     PlacedObject { geometry: shape.place(&Affine3A::IDENTITY), material: MaterialId(material) }
@@ -116,7 +123,7 @@ fn mirror_shows_the_colour_of_what_it_faces() {
 /// point where a ray lands. Returns that point's x from the measured radiance.
 fn landing_x(scene: &TraceScene, ray: &Ray, light: Vec3) -> f32 {
     let mut rays = RayCounts::default();
-    let mut ctx = PathContext { max_depth: 8, min_contribution: 0.0, rays: &mut rays };
+    let mut ctx = path_context(&mut rays);
     let n_dot_l = radiance(scene, ray, 0, 1.0, &mut ctx).x;
     let h = 5.0 - light.z;
     light.x + ((h / n_dot_l).powi(2) - h * h).max(0.0).sqrt()
@@ -180,7 +187,7 @@ fn total_internal_reflection_past_the_critical_angle() {
         let theta = theta_deg.to_radians();
         let ray = Ray::new(Vec3::new(0.0, 0.0, 0.5), Vec3::new(theta.sin(), 0.0, theta.cos()));
         let mut rays = RayCounts::default();
-        let mut ctx = PathContext { max_depth: 8, min_contribution: 0.0, rays: &mut rays };
+        let mut ctx = path_context(&mut rays);
         radiance(&s, &ray, 0, 1.0, &mut ctx)
     };
     assert_close(seen(30.0), red, "refracted out of the top");

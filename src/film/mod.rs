@@ -1,7 +1,9 @@
 //! The film: a linear-light RGB image, and its encoding to files.
 
+pub mod metrics;
 pub mod output;
 
+pub use metrics::{psnr, rmse};
 pub use output::{encode_srgb8, linear_to_srgb, write_atomically, write_png, OutputError};
 
 use crate::math::Vec3;

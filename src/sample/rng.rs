@@ -121,6 +121,12 @@ impl SampleStream {
         Self { key, next_dim: 0 }
     }
 
+    /// A stream for `key` whose first dimension is `first_dim` (the ones below are reserved
+    /// by the caller).
+    pub fn starting_at(key: SampleKey, first_dim: u32) -> Self {
+        Self { key, next_dim: first_dim }
+    }
+
     /// The key this stream hashes.
     pub fn key(&self) -> &SampleKey {
         &self.key

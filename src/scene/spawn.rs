@@ -3,13 +3,15 @@
 
 use bevy_ecs::prelude::World;
 
-use super::format::{LightDesc, SceneDesc, ShapeDesc};
+use super::format::{LightDesc, SamplingDesc, SceneDesc, ShapeDesc};
 use crate::accel::DEFAULT_LAMBDA;
 use crate::geom;
+use crate::sample::adaptive::AdaptiveSettings;
+use crate::sample::warp::orthonormal_basis;
 use crate::store::{MaterialId, PrimitiveStore};
-use crate::trace::{self, Material};
+use crate::trace::{self, AntiAliasing, Material, Sampling};
 use crate::world::components::{Light, MaterialRef, Name, Shape, Transform, WorldAabb, WorldShape};
-use crate::world::resources::{CameraRig, Materials, SceneSettings};
+use crate::world::resources::{CameraRig, Focus, Materials, SceneSettings};
 use crate::world::SceneWorld;
 
 /// A World holding the scene: the caller has validated `desc` (see `super::load`).
@@ -32,11 +34,18 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
         names: desc.materials.iter().map(|m| m.name.clone()).collect(),
     };
     let c = &desc.camera;
+    let focus = match (c.focus_distance, c.focus_on) {
+        (Some(d), _) => Focus::Distance(d),
+        (None, Some(p)) => Focus::Point(p),
+        (None, None) => Focus::LookAt,
+    };
     world.insert_resource(CameraRig {
         position: c.position,
         look_at: c.look_at,
         up: c.up,
         fov_y: c.fov_deg.to_radians(),
+        aperture: c.aperture,
+        focus,
     });
     let s = &desc.settings;
     world.insert_resource(SceneSettings {
@@ -49,6 +58,16 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
         seed: s.seed,
         frame: 0,
         lambda: DEFAULT_LAMBDA,
+        aa: AntiAliasing {
+            sampling: Sampling { samples: s.aa.samples, pattern: s.aa.pattern },
+            filter: s.aa.filter,
+        },
+        adaptive: s
+            .adaptive
+            .as_ref()
+            .map(|a| AdaptiveSettings { threshold: a.threshold, max_depth: a.max_depth }),
+        lens: sampling(&c.lens),
+        glossy: sampling(&s.glossy),
     });
 
     for (i, object) in desc.objects.iter().enumerate() {
@@ -87,21 +106,33 @@ pub fn shape_of(desc: &ShapeDesc) -> geom::Shape {
     }
 }
 
+fn sampling(desc: &SamplingDesc) -> Sampling {
+    Sampling { samples: desc.samples, pattern: desc.pattern }
+}
+
 /// Engine light of a light description: radiance is colour × intensity, directions unit length.
 pub fn light_of(desc: &LightDesc) -> trace::Light {
     match *desc {
+        LightDesc::Rect { corner, edge_u, edge_v, colour, intensity, samples, pattern } => {
+            trace::Light::Rect { corner, edge_u, edge_v, radiance: colour * intensity, samples, pattern }
+        }
+        LightDesc::Disk { centre, normal, radius, colour, intensity, samples, pattern } => {
+            let (axis_u, axis_v) = orthonormal_basis(normal.normalize());
+            trace::Light::Disk {
+                centre,
+                axis_u,
+                axis_v,
+                radius,
+                radiance: colour * intensity,
+                samples,
+                pattern,
+            }
+        }
         LightDesc::Point { position, colour, intensity } => {
             trace::Light::Point { position, radiance: colour * intensity }
         }
         LightDesc::Directional { direction, colour, intensity } => {
             trace::Light::Directional { direction: direction.normalize(), radiance: colour * intensity }
-        }
-        // Stopgap until area lights are wired into the renderer: a point light at the centre.
-        LightDesc::Rect { corner, edge_u, edge_v, colour, intensity, .. } => {
-            trace::Light::Point { position: corner + 0.5 * (edge_u + edge_v), radiance: colour * intensity }
-        }
-        LightDesc::Disk { centre, colour, intensity, .. } => {
-            trace::Light::Point { position: centre, radiance: colour * intensity }
         }
     }
 }

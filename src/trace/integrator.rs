@@ -1,10 +1,15 @@
-//! The Whitted integrator: nearest hits through the grid, shadow transmittance, and Phong
-//! shading with recursive reflection and refraction.
+//! The Whitted integrator with distribution effects: nearest hits through the grid, shadow
+//! transmittance, and recursive mirror or glossy reflection and sharp or blurry refraction.
 
+use super::phong::{direct_light, Surface};
+use super::render::{RenderSettings, Sampling};
 use super::scene::TraceScene;
 use super::stats::RayCounts;
 use crate::accel::GridWalk;
-use crate::math::{offset_distance, reflect, refract, Ray, Vec3};
+use crate::math::{offset_distance, reflect, refract, Ray, Vec2, Vec3};
+use crate::sample::pattern::square_point;
+use crate::sample::rng::{hash, permute, uniform2, SampleKey, SampleStream};
+use crate::sample::warp::cone;
 use crate::store::{Hit, PrimitiveStore};
 
 /// Nearest hit in `(t_min, t_max)`: planes first, then the grid's cells front to back.
@@ -133,15 +138,121 @@ pub fn transmittance<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max:
     pass
 }
 
-/// Per-ray context: recursion limits and the counters of one worker.
+/// Per-path context: recursion limits, sampling budgets, the randomness of the camera sample
+/// being traced, and the counters of one worker.
 pub struct PathContext<'a> {
     /// Maximum reflection/refraction depth.
     pub max_depth: u32,
     /// Minimum path weight worth tracing.
     pub min_contribution: f32,
+    /// Glossy/blurry rays per pixel at the first bounce (one per path deeper down).
+    pub glossy: Sampling,
+    /// Randomness of this camera sample: every random choice along the path takes dimensions
+    /// from it in traversal order, so the path is a pure function of its key.
+    pub stream: SampleStream,
+    /// Which camera sample of which pixel this path belongs to.
+    pub camera: CameraSample,
     /// Ray counters to add to.
     pub rays: &'a mut RayCounts,
 }
+
+/// First dimension of a path's stream; the ones below belong to the pixel's own patterns
+/// (sub-pixel position, lens).
+pub const FIRST_PATH_DIM: u32 = 2;
+
+/// A camera sample: its own key, and its place among its pixel's samples.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CameraSample {
+    /// Key of this sample's path stream.
+    pub key: SampleKey,
+    /// Key shared by all of the pixel's samples: effect patterns are stratified through it.
+    pub pixel: SampleKey,
+    /// Index of this sample among the pixel's `spp`.
+    pub slot: u32,
+    /// Camera samples of the pixel: an effect's per-pixel sample count is shared among them.
+    pub spp: u32,
+}
+
+impl CameraSample {
+    /// A sample that is its pixel's only one (adaptive lattice points, single rays).
+    pub fn single(key: SampleKey) -> Self {
+        Self { key, pixel: key, slot: 0, spp: 1 }
+    }
+}
+
+impl<'a> PathContext<'a> {
+    /// The context of the path of `camera` under `settings`.
+    pub fn new(settings: &RenderSettings, camera: CameraSample, rays: &'a mut RayCounts) -> Self {
+        Self {
+            max_depth: settings.max_depth,
+            min_contribution: settings.min_contribution,
+            glossy: settings.glossy,
+            stream: SampleStream::starting_at(camera.key, FIRST_PATH_DIM),
+            camera: CameraSample { spp: camera.spp.max(1), ..camera },
+            rays,
+        }
+    }
+
+    /// This camera sample's share of an effect that takes `n` samples per pixel:
+    /// `ceil(n / spp)` pairs of (stratum of `n`, uniform pair). Across the pixel's camera samples
+    /// the strata are a permutation of `0..n`, so the pixel's samples stay stratified.
+    pub fn effect_samples(&mut self, n: u32) -> EffectSamples {
+        let n = n.max(1);
+        let dim = self.stream.take_dim();
+        let c = &self.camera;
+        let share = n.div_ceil(c.spp);
+        let first = c.slot.wrapping_mul(share);
+        EffectSamples {
+            pixel: c.pixel,
+            dim,
+            n,
+            next: first,
+            end: first.wrapping_add(share),
+            order: hash(&c.pixel, dim, u32::MAX),
+        }
+    }
+}
+
+/// One camera sample's share of an effect's per-pixel samples; see
+/// [`PathContext::effect_samples`].
+#[derive(Debug, Clone)]
+pub struct EffectSamples {
+    pixel: SampleKey,
+    dim: u32,
+    n: u32,
+    next: u32,
+    end: u32,
+    order: u64,
+}
+
+impl EffectSamples {
+    /// Samples this camera sample takes.
+    pub fn taken(&self) -> u32 {
+        self.end.wrapping_sub(self.next)
+    }
+
+    /// Samples of the whole pixel (the pattern's size).
+    pub fn pattern_size(&self) -> u32 {
+        self.n
+    }
+}
+
+impl Iterator for EffectSamples {
+    type Item = (u32, Vec2);
+
+    #[inline]
+    fn next(&mut self) -> Option<(u32, Vec2)> {
+        if self.next == self.end {
+            return None;
+        }
+        let g = self.next;
+        self.next = self.next.wrapping_add(1);
+        Some((permute(g % self.n, self.n, self.order), uniform2(&self.pixel, self.dim, g)))
+    }
+}
+
+/// Largest cone half-angle, reached at glossiness 1: 45°.
+pub const MAX_GLOSSY_ANGLE: f32 = std::f32::consts::FRAC_PI_4;
 
 /// Radiance arriving along `ray`, which already carries path weight `weight` at `depth`.
 pub fn radiance<S: PrimitiveStore>(
@@ -160,47 +271,91 @@ pub fn radiance<S: PrimitiveStore>(
     let entering = sp.normal.dot(ray.dir) < 0.0;
     let n = if entering { sp.normal } else { -sp.normal };
     let eps = offset_distance(sp.point, scene.offset_floor);
-    let above = sp.point + n * eps;
-    let view = -ray.dir;
-
-    // Ambient and direct light.
-    let mut colour = scene.ambient * m.kd;
-    for light in &scene.lights {
-        let (to_light, dist, radiance) = light.towards(sp.point);
-        let n_dot_l = n.dot(to_light);
-        if n_dot_l <= 0.0 {
-            continue;
-        }
-        ctx.rays.shadow += 1;
-        let shadow = Ray::new(above, to_light);
-        let pass = transmittance(scene, &shadow, dist - eps);
-        if pass == 0.0 {
-            continue;
-        }
-        let diffuse = m.kd * n_dot_l;
-        let r_dot_v = reflect(-to_light, n).dot(view).max(0.0);
-        let specular = if m.ks > 0.0 { m.ks * r_dot_v.powf(m.shininess) } else { 0.0 };
-        colour += radiance * pass * (diffuse + Vec3::splat(specular));
-    }
+    let surface = Surface { point: sp.point, normal: n, above: sp.point + n * eps, eps };
+    let mut colour = scene.ambient * m.kd + direct_light(scene, &m, &surface, -ray.dir, ctx);
 
     if depth >= ctx.max_depth {
         return colour;
     }
-    // Mirror reflection.
+    // Mirror or glossy reflection.
     if m.kr > 0.0 && weight * m.kr >= ctx.min_contribution {
-        ctx.rays.reflection += 1;
-        let r = Ray::new(above, reflect(ray.dir, n));
-        colour += m.kr * radiance(scene, &r, depth + 1, weight * m.kr, ctx);
+        let mirror = reflect(ray.dir, n);
+        colour += m.kr
+            * if m.glossiness > 0.0 {
+                scatter(
+                    scene,
+                    surface.above,
+                    mirror,
+                    n,
+                    m.glossiness,
+                    depth,
+                    weight * m.kr,
+                    Scatter::Glossy,
+                    ctx,
+                )
+            } else {
+                ctx.rays.reflection += 1;
+                radiance(scene, &Ray::new(surface.above, mirror), depth + 1, weight * m.kr, ctx)
+            };
     }
-    // Refraction (Snell), or total internal reflection.
+    // Refraction (Snell), or total internal reflection; blurry around that direction.
     if m.kt > 0.0 && weight * m.kt >= ctx.min_contribution {
-        ctx.rays.refraction += 1;
         let eta = if entering { 1.0 / m.ior } else { m.ior };
-        let next = match refract(ray.dir, n, eta) {
-            Some(dir) => Ray::new(sp.point - n * eps, dir),
-            None => Ray::new(above, reflect(ray.dir, n)),
+        let (origin, dir, side) = match refract(ray.dir, n, eta) {
+            Some(dir) => (sp.point - n * eps, dir, -n),
+            None => (surface.above, reflect(ray.dir, n), n),
         };
-        colour += m.kt * radiance(scene, &next, depth + 1, weight * m.kt, ctx);
+        colour += m.kt
+            * if m.glossiness > 0.0 {
+                scatter(scene, origin, dir, side, m.glossiness, depth, weight * m.kt, Scatter::Blurry, ctx)
+            } else {
+                ctx.rays.refraction += 1;
+                radiance(scene, &Ray::new(origin, dir), depth + 1, weight * m.kt, ctx)
+            };
     }
     colour
+}
+
+/// Which kind of ray a [`scatter`] traces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Scatter {
+    Glossy,
+    Blurry,
+}
+
+/// Mean radiance over rays in the cone of half-angle `glossiness × 45°` around `axis`, kept on
+/// the `side` of the surface the axis leaves towards (a direction that dips under the surface
+/// is mirrored back). The pixel's `glossy.samples` rays at the first bounce, shared among its
+/// camera samples; one ray deeper down.
+#[allow(clippy::too_many_arguments)]
+fn scatter<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    origin: Vec3,
+    axis: Vec3,
+    side: Vec3,
+    glossiness: f32,
+    depth: u32,
+    weight: f32,
+    kind: Scatter,
+    ctx: &mut PathContext<'_>,
+) -> Vec3 {
+    let pattern = ctx.glossy.pattern;
+    let half_angle = glossiness * MAX_GLOSSY_ANGLE;
+    // The per-pixel budget at the first bounce; a single ray (its own stratum of 1) deeper down.
+    let samples = if depth == 0 { ctx.effect_samples(ctx.glossy.samples) } else { ctx.effect_samples(1) };
+    let (n, taken) = (samples.pattern_size(), samples.taken());
+    let mut sum = Vec3::ZERO;
+    for (stratum, u) in samples {
+        let mut dir = cone(axis, half_angle, square_point(pattern, n, stratum, u));
+        let below = dir.dot(side);
+        if below <= 0.0 {
+            dir = (dir - 2.0 * below * side).normalize();
+        }
+        match kind {
+            Scatter::Glossy => ctx.rays.glossy += 1,
+            Scatter::Blurry => ctx.rays.blurry += 1,
+        }
+        sum += radiance(scene, &Ray::new(origin, dir), depth + 1, weight, ctx);
+    }
+    sum / taken as f32
 }

@@ -1,6 +1,14 @@
 //! Light sources in engine form: radiance already scaled by intensity.
+//!
+//! Point and directional lights are sampled once per shading point. Area lights (a
+//! parallelogram or a disk) take `samples` points per pixel with their own pattern, shared
+//! among the pixel's camera samples; shading averages the Phong terms and the visibility over
+//! those points (each a point light with the light's radiance). Area lights are not visible
+//! to camera rays.
 
-use crate::math::Vec3;
+use crate::math::{Vec2, Vec3};
+use crate::sample::pattern::{disk_point, square_point};
+use crate::sample::Pattern;
 
 /// A light source.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -19,20 +27,94 @@ pub enum Light {
         /// Colour × intensity.
         radiance: Vec3,
     },
+    /// A parallelogram `corner + s·edge_u + t·edge_v`, s, t ∈ [0, 1], emitting to both sides.
+    Rect {
+        /// One corner.
+        corner: Vec3,
+        /// First edge from the corner.
+        edge_u: Vec3,
+        /// Second edge from the corner.
+        edge_v: Vec3,
+        /// Colour × intensity of the whole light.
+        radiance: Vec3,
+        /// Shadow rays per shading point.
+        samples: u32,
+        /// Placement of the samples.
+        pattern: Pattern,
+    },
+    /// A disk of `radius` around `centre`, spanned by the unit axes `axis_u`, `axis_v`.
+    Disk {
+        /// Centre.
+        centre: Vec3,
+        /// Unit vector in the disk's plane.
+        axis_u: Vec3,
+        /// Unit vector in the disk's plane, orthogonal to `axis_u`.
+        axis_v: Vec3,
+        /// Radius.
+        radius: f32,
+        /// Colour × intensity of the whole light.
+        radiance: Vec3,
+        /// Shadow rays per shading point.
+        samples: u32,
+        /// Placement of the samples.
+        pattern: Pattern,
+    },
 }
 
 impl Light {
-    /// Unit direction from `p` towards the light, the distance to it (∞ for directional) and
-    /// the radiance arriving.
+    /// Unit direction from `p` towards a point light or directional light, the distance to it
+    /// (∞ for directional) and the radiance arriving. For area lights, the direction to the
+    /// centre and the whole radiance (used only where one representative sample is wanted).
     #[inline]
     pub fn towards(&self, p: Vec3) -> (Vec3, f32, Vec3) {
         match *self {
-            Light::Point { position, radiance } => {
-                let to = position - p;
-                let dist = to.length();
-                (to / dist, dist, radiance)
-            }
+            Light::Point { position, radiance } => towards_point(p, position, radiance),
             Light::Directional { direction, radiance } => (-direction, f32::INFINITY, radiance),
+            Light::Rect { corner, edge_u, edge_v, radiance, .. } => {
+                towards_point(p, corner + 0.5 * (edge_u + edge_v), radiance)
+            }
+            Light::Disk { centre, radiance, .. } => towards_point(p, centre, radiance),
         }
     }
+
+    /// True for lights with an area (sampled with several shadow rays).
+    #[inline]
+    pub fn is_area(&self) -> bool {
+        matches!(self, Light::Rect { .. } | Light::Disk { .. })
+    }
+
+    /// Samples per shading point (1 for point and directional lights).
+    #[inline]
+    pub fn samples(&self) -> u32 {
+        match *self {
+            Light::Rect { samples, .. } | Light::Disk { samples, .. } => samples.max(1),
+            _ => 1,
+        }
+    }
+
+    /// Stratum `i` (of the light's `samples`) of an area light as (direction from `p`,
+    /// distance, the light's whole radiance), with `u` the random pair placing the point in the
+    /// stratum. The caller averages over the samples it takes. Point and directional lights
+    /// ignore `i` and `u`.
+    #[inline]
+    pub fn sample(&self, p: Vec3, i: u32, u: Vec2) -> (Vec3, f32, Vec3) {
+        match *self {
+            Light::Rect { corner, edge_u, edge_v, radiance, samples, pattern } => {
+                let st = square_point(pattern, samples, i, u);
+                towards_point(p, corner + st.x * edge_u + st.y * edge_v, radiance)
+            }
+            Light::Disk { centre, axis_u, axis_v, radius, radiance, samples, pattern } => {
+                let d = disk_point(pattern, samples, i, u) * radius;
+                towards_point(p, centre + d.x * axis_u + d.y * axis_v, radiance)
+            }
+            _ => self.towards(p),
+        }
+    }
+}
+
+#[inline]
+fn towards_point(p: Vec3, position: Vec3, radiance: Vec3) -> (Vec3, f32, Vec3) {
+    let to = position - p;
+    let dist = to.length();
+    (to / dist, dist, radiance)
 }

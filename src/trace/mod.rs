@@ -4,16 +4,19 @@
 //! Nothing here touches the ECS: [`render`] is a pure function of a [`TraceScene`] and
 //! [`RenderSettings`], which is what makes it testable without a World and deterministic.
 
+pub mod effects;
 pub mod integrator;
 pub mod light;
 pub mod material;
+pub mod phong;
 pub mod render;
 pub mod scene;
 pub mod stats;
 
+pub use effects::Effects;
 pub use integrator::{closest_hit, closest_hit_brute};
 pub use light::Light;
 pub use material::Material;
-pub use render::{render, RenderSettings};
-pub use scene::{Effects, SceneTables, TraceScene};
-pub use stats::{GridStats, RayCounts, RenderStats, StageTimes};
+pub use render::{render, AntiAliasing, RenderSettings, Sampling};
+pub use scene::{SceneTables, TraceScene};
+pub use stats::{AdaptiveCounts, GridStats, RayCounts, RenderStats, StageTimes};

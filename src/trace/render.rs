@@ -1,18 +1,67 @@
-//! The parallel renderer: tiles over rayon, one pure function per pixel.
+//! The parallel renderer: rayon over tiles, one pure function per pixel.
+//!
+//! A pixel is the mean of `aa.samples × lens.samples` camera samples (lens samples only when
+//! the camera has an aperture): sample positions come from the anti-aliasing pattern over the
+//! pixel footprint (a box, or a tent two pixels wide), lens points from the lens pattern over
+//! the unit disk, stratified across all of the pixel's samples. One sample per pixel goes
+//! through the pixel centre. With adaptive supersampling the pixel corners are traced once for
+//! the whole image, then each pixel is subdivided where its corners disagree
+//! ([`crate::sample::adaptive`]).
+//!
+//! Every random number is keyed by (seed, frame, pixel, sample, dimension), so the image is
+//! bit-identical for any thread count or tile order.
 
+use std::collections::HashMap;
 use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::integrator::{radiance, PathContext};
+use super::integrator::{radiance, CameraSample, PathContext};
 use super::scene::TraceScene;
-use super::stats::{GridStats, RayCounts, RenderStats};
+use super::stats::{AdaptiveCounts, GridStats, RayCounts, RenderStats};
 use crate::film::Film;
-use crate::math::Vec3;
+use crate::math::{Ray, Vec2, Vec3};
+use crate::sample::adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint};
+use crate::sample::pattern::{disk_point, square_point};
+use crate::sample::rng::{hash, permute, uniform2, SampleKey};
+use crate::sample::warp::tent;
+use crate::sample::{Filter, Pattern};
 use crate::store::PrimitiveStore;
 
 /// Edge length of a square render tile in pixels.
 pub const TILE: u32 = 16;
+
+/// `SampleKey::sample` of the pixel-level patterns (positions and lens points), kept apart
+/// from every camera sample's own key.
+const PIXEL_PATTERNS: u32 = u32::MAX;
+/// Dimension of the anti-aliasing pattern in the pixel-level key.
+const DIM_PIXEL: u32 = 0;
+/// Dimension of the lens pattern in the pixel-level key.
+const DIM_LENS: u32 = 1;
+
+/// A sample count and the pattern that places the samples.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Sampling {
+    /// Number of samples (at least 1).
+    pub samples: u32,
+    /// Placement.
+    pub pattern: Pattern,
+}
+
+impl Default for Sampling {
+    fn default() -> Self {
+        Self { samples: 1, pattern: Pattern::Jittered }
+    }
+}
+
+/// Anti-aliasing: samples per pixel, their pattern and the filter footprint.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct AntiAliasing {
+    /// Samples per pixel and their placement.
+    pub sampling: Sampling,
+    /// Footprint: the pixel (box) or a tent two pixels wide.
+    pub filter: Filter,
+}
 
 /// How to render a snapshot.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -29,11 +78,30 @@ pub struct RenderSettings {
     pub seed: u64,
     /// Frame number (part of every random sample's key).
     pub frame: u32,
+    /// Anti-aliasing (ignored when `adaptive` is on).
+    pub aa: AntiAliasing,
+    /// Adaptive supersampling by corner subdivision; replaces `aa` when set.
+    pub adaptive: Option<AdaptiveSettings>,
+    /// Lens samples per camera sample (only when the camera has an aperture).
+    pub lens: Sampling,
+    /// Rays per glossy reflection or blurry refraction at the first bounce.
+    pub glossy: Sampling,
 }
 
 impl Default for RenderSettings {
     fn default() -> Self {
-        Self { width: 640, height: 480, max_depth: 5, min_contribution: 1e-3, seed: 0, frame: 0 }
+        Self {
+            width: 640,
+            height: 480,
+            max_depth: 5,
+            min_contribution: 1e-3,
+            seed: 0,
+            frame: 0,
+            aa: AntiAliasing::default(),
+            adaptive: None,
+            lens: Sampling::default(),
+            glossy: Sampling { samples: 8, pattern: Pattern::Jittered },
+        }
     }
 }
 
@@ -41,31 +109,19 @@ impl Default for RenderSettings {
 /// thread count or tile order, because each pixel depends only on its coordinates.
 pub fn render<S: PrimitiveStore>(scene: &TraceScene<S>, settings: &RenderSettings) -> (Film, RenderStats) {
     let started = Instant::now();
-    let (w, h) = (settings.width, settings.height);
-    let tiles_x = w.div_ceil(TILE);
-    let tiles_y = h.div_ceil(TILE);
-    let tiles: Vec<(Vec<Vec3>, RayCounts)> = (0..tiles_x * tiles_y)
-        .into_par_iter()
-        .map(|tile| render_tile(scene, settings, tile % tiles_x, tile / tiles_x))
-        .collect();
-
-    let mut film = Film::new(w, h);
-    let mut rays = RayCounts::default();
-    for (tile, (pixels, counts)) in tiles.iter().enumerate() {
-        let (tx, ty) = (tile as u32 % tiles_x, tile as u32 / tiles_x);
-        let x0 = tx * TILE;
-        let tw = TILE.min(w - x0);
-        for (k, &c) in pixels.iter().enumerate() {
-            let (x, y) = (x0 + k as u32 % tw, ty * TILE + k as u32 / tw);
-            film.set(x, y, c);
+    let (film, rays, adaptive) = match settings.adaptive {
+        Some(adaptive) => render_adaptive(scene, settings, &adaptive),
+        None => {
+            let (film, rays) = render_tiles(settings, |x, y, rays| fixed_pixel(scene, settings, x, y, rays));
+            (film, rays, AdaptiveCounts::default())
         }
-        rays.add(counts);
-    }
+    };
     let mut stats = RenderStats {
-        width: w,
-        height: h,
+        width: settings.width,
+        height: settings.height,
         threads: rayon::current_num_threads(),
         rays,
+        adaptive,
         ..Default::default()
     };
     stats.times.trace = started.elapsed().as_secs_f64();
@@ -79,29 +135,195 @@ pub fn render<S: PrimitiveStore>(scene: &TraceScene<S>, settings: &RenderSetting
     (film, stats)
 }
 
-fn render_tile<S: PrimitiveStore>(
+/// Runs `pixel` over every pixel, tiles in parallel, and assembles the film in tile order.
+fn render_tiles<F>(settings: &RenderSettings, pixel: F) -> (Film, RayCounts)
+where
+    F: Fn(u32, u32, &mut RayCounts) -> Vec3 + Sync,
+{
+    let (w, h) = (settings.width, settings.height);
+    let tiles_x = w.div_ceil(TILE);
+    let tiles: Vec<(Vec<Vec3>, RayCounts)> = (0..tiles_x * h.div_ceil(TILE))
+        .into_par_iter()
+        .map(|tile| {
+            let (x0, y0) = (tile % tiles_x * TILE, tile / tiles_x * TILE);
+            let mut rays = RayCounts::default();
+            let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
+            for y in y0..(y0 + TILE).min(h) {
+                for x in x0..(x0 + TILE).min(w) {
+                    let c = pixel(x, y, &mut rays);
+                    debug_assert!(c.is_finite(), "non-finite radiance at pixel ({x}, {y})");
+                    pixels.push(c);
+                }
+            }
+            (pixels, rays)
+        })
+        .collect();
+    let mut film = Film::new(w, h);
+    let mut rays = RayCounts::default();
+    for (tile, (pixels, counts)) in tiles.iter().enumerate() {
+        let (x0, y0) = (tile as u32 % tiles_x * TILE, tile as u32 / tiles_x * TILE);
+        let tw = TILE.min(w - x0);
+        for (k, &c) in pixels.iter().enumerate() {
+            film.set(x0 + k as u32 % tw, y0 + k as u32 / tw, c);
+        }
+        rays.add(counts);
+    }
+    (film, rays)
+}
+
+/// A pixel as the mean of its fixed set of camera samples.
+fn fixed_pixel<S: PrimitiveStore>(
     scene: &TraceScene<S>,
     settings: &RenderSettings,
-    tx: u32,
-    ty: u32,
-) -> (Vec<Vec3>, RayCounts) {
-    let (x0, y0) = (tx * TILE, ty * TILE);
-    let (x1, y1) = ((x0 + TILE).min(settings.width), (y0 + TILE).min(settings.height));
-    let mut rays = RayCounts::default();
-    let mut pixels = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
-    let mut ctx = PathContext {
-        max_depth: settings.max_depth,
-        min_contribution: settings.min_contribution,
-        rays: &mut rays,
-    };
-    for y in y0..y1 {
-        for x in x0..x1 {
-            let ray = scene.camera.ray(x as f32 + 0.5, y as f32 + 0.5, settings.width, settings.height);
-            ctx.rays.camera += 1;
-            let c = radiance(scene, &ray, 0, 1.0, &mut ctx);
-            debug_assert!(c.is_finite(), "non-finite radiance at pixel ({x}, {y})");
-            pixels.push(c);
+    x: u32,
+    y: u32,
+    rays: &mut RayCounts,
+) -> Vec3 {
+    let pixel = y * settings.width + x;
+    let patterns = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample: PIXEL_PATTERNS };
+    let n_aa = settings.aa.sampling.samples.max(1);
+    let n_lens = if scene.camera.has_lens() { settings.lens.samples.max(1) } else { 1 };
+    let n = n_aa * n_lens;
+    let mut sum = Vec3::ZERO;
+    for i in 0..n_aa {
+        let offset = pixel_offset(&settings.aa, n_aa, i, uniform2(&patterns, DIM_PIXEL, i));
+        let (px, py) = (x as f32 + offset.x, y as f32 + offset.y);
+        for j in 0..n_lens {
+            let sample = i * n_lens + j;
+            let ray = if scene.camera.has_lens() {
+                // Lens points are stratified over all n samples, in an order decorrelated
+                // from the pixel positions.
+                let k = permute(sample, n, hash(&patterns, DIM_LENS, u32::MAX));
+                let lens = disk_point(settings.lens.pattern, n, k, uniform2(&patterns, DIM_LENS, k));
+                rays.lens += 1;
+                scene.camera.lens_ray(px, py, settings.width, settings.height, lens)
+            } else {
+                rays.camera += 1;
+                scene.camera.ray(px, py, settings.width, settings.height)
+            };
+            let key = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample };
+            let camera = CameraSample { key, pixel: patterns, slot: sample, spp: n };
+            sum += trace_camera_ray(scene, settings, &ray, camera, rays);
         }
     }
-    (pixels, rays)
+    sum / n as f32
+}
+
+/// Where in the pixel (in pixel units from its top-left corner) sample `i` of `n` lands.
+fn pixel_offset(aa: &AntiAliasing, n: u32, i: u32, u: Vec2) -> Vec2 {
+    if n == 1 {
+        return Vec2::splat(0.5);
+    }
+    let p = square_point(aa.sampling.pattern, n, i, u);
+    match aa.filter {
+        Filter::Box => p,
+        Filter::Tent => Vec2::new(0.5 + tent(p.x), 0.5 + tent(p.y)),
+    }
+}
+
+fn trace_camera_ray<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    settings: &RenderSettings,
+    ray: &Ray,
+    camera: CameraSample,
+    rays: &mut RayCounts,
+) -> Vec3 {
+    let mut ctx = PathContext::new(settings, camera, rays);
+    radiance(scene, ray, 0, 1.0, &mut ctx)
+}
+
+/// Adaptive supersampling: the `(W+1) × (H+1)` pixel corners first (each traced once), then
+/// every pixel refined by corner subdivision, tiles in parallel with a cache per tile.
+fn render_adaptive<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    settings: &RenderSettings,
+    adaptive: &AdaptiveSettings,
+) -> (Film, RayCounts, AdaptiveCounts) {
+    let (w, h) = (settings.width, settings.height);
+    let res = adaptive.resolution();
+    let point = |p: LatticePoint, rays: &mut RayCounts| lattice_sample(scene, settings, res, p, rays);
+
+    // Pass 1: the corner lattice, rows in parallel.
+    let rows: Vec<(Vec<Vec3>, RayCounts)> = (0..=h)
+        .into_par_iter()
+        .map(|cy| {
+            let mut rays = RayCounts::default();
+            let row = (0..=w).map(|cx| point(LatticePoint { x: cx * res, y: cy * res }, &mut rays)).collect();
+            (row, rays)
+        })
+        .collect();
+    let mut rays = RayCounts::default();
+    rows.iter().for_each(|(_, r)| rays.add(r));
+    let corner = |cx: u32, cy: u32| rows[cy as usize].0[cx as usize];
+
+    // Pass 2: refinement. Counts of each pixel are gathered through the tile's RayCounts; the
+    // adaptive figures through a per-tile accumulator folded in below.
+    let refined: Vec<(Vec<Vec3>, RayCounts, AdaptiveStats)> = {
+        let tiles_x = w.div_ceil(TILE);
+        (0..tiles_x * h.div_ceil(TILE))
+            .into_par_iter()
+            .map(|tile| {
+                let (x0, y0) = (tile % tiles_x * TILE, tile / tiles_x * TILE);
+                let mut rays = RayCounts::default();
+                let mut stats = AdaptiveStats::default();
+                let mut cache = HashMap::new();
+                let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
+                for y in y0..(y0 + TILE).min(h) {
+                    for x in x0..(x0 + TILE).min(w) {
+                        let corners =
+                            [corner(x, y), corner(x + 1, y), corner(x, y + 1), corner(x + 1, y + 1)];
+                        let mut trace = |p: LatticePoint| point(p, &mut rays);
+                        pixels
+                            .push(refine_pixel(x, y, corners, adaptive, &mut cache, &mut trace, &mut stats));
+                    }
+                }
+                (pixels, rays, stats)
+            })
+            .collect()
+    };
+    let mut film = Film::new(w, h);
+    let mut counts = AdaptiveCounts { traced: u64::from(w + 1) * u64::from(h + 1), ..Default::default() };
+    let tiles_x = w.div_ceil(TILE);
+    for (tile, (pixels, tile_rays, stats)) in refined.iter().enumerate() {
+        let (x0, y0) = (tile as u32 % tiles_x * TILE, tile as u32 / tiles_x * TILE);
+        let tw = TILE.min(w - x0);
+        for (k, &c) in pixels.iter().enumerate() {
+            film.set(x0 + k as u32 % tw, y0 + k as u32 / tw, c);
+        }
+        rays.add(tile_rays);
+        counts.traced += stats.traced;
+        counts.reused += stats.reused;
+        counts.subdivisions += stats.subdivisions;
+    }
+    (film, rays, counts)
+}
+
+/// The colour at a lattice point (image position `p / res`): one camera sample, with one lens
+/// point when the camera has an aperture, and effect budgets scaled to the area the point
+/// stands for. A pure function of the point's coordinates.
+fn lattice_sample<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    settings: &RenderSettings,
+    res: u32,
+    p: LatticePoint,
+    rays: &mut RayCounts,
+) -> Vec3 {
+    let id = u64::from(p.y) * (u64::from(settings.width) * u64::from(res) + 1) + u64::from(p.x);
+    let key =
+        SampleKey { seed: settings.seed, frame: settings.frame, pixel: id as u32, sample: (id >> 32) as u32 };
+    let (px, py) = (p.x as f32 / res as f32, p.y as f32 / res as f32);
+    let ray = if scene.camera.has_lens() {
+        rays.lens += 1;
+        let lens = disk_point(Pattern::Random, 1, 0, uniform2(&key, DIM_LENS, PIXEL_PATTERNS));
+        scene.camera.lens_ray(px, py, settings.width, settings.height, lens)
+    } else {
+        rays.camera += 1;
+        scene.camera.ray(px, py, settings.width, settings.height)
+    };
+    // A point first needed at subdivision level l stands for a square of 4^-l of a pixel: it
+    // takes that share of each effect's per-pixel budget (corners, level 0, take all of it).
+    let level =
+        res.trailing_zeros() - p.x.trailing_zeros().min(p.y.trailing_zeros()).min(res.trailing_zeros());
+    let camera = CameraSample { spp: 1 << (2 * level), ..CameraSample::single(key) };
+    trace_camera_ray(scene, settings, &ray, camera, rays)
 }

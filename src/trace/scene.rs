@@ -2,21 +2,13 @@
 
 use std::sync::Arc;
 
+use super::effects::Effects;
 use super::light::Light;
 use super::material::Material;
 use crate::accel::{GridBuilder, UniformGrid};
 use crate::camera::Camera;
 use crate::math::Vec3;
 use crate::store::{MaterialId, PlacedObject, PrimitiveStore, SoaStore};
-
-/// The effects a snapshot needs, derived once so the integrator skips absent ones.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct Effects {
-    /// Some material reflects (kr > 0).
-    pub reflection: bool,
-    /// Some material transmits (kt > 0): shadow rays must accumulate transmittance.
-    pub transmission: bool,
-}
 
 /// The non-geometric part of a snapshot: materials, lights, camera and the constant terms.
 #[derive(Debug, Clone)]
@@ -65,10 +57,7 @@ impl<S: PrimitiveStore> TraceScene<S> {
         tables: SceneTables,
     ) -> Self {
         let SceneTables { materials, lights, camera, background, ambient } = tables;
-        let effects = Effects {
-            reflection: materials.iter().any(|m| m.kr > 0.0),
-            transmission: materials.iter().any(|m| m.kt > 0.0),
-        };
+        let effects = Effects::of(&materials, &lights, &camera);
         let size = if grid.bounds.is_empty() {
             0.0
         } else {

@@ -7,29 +7,63 @@ use serde::Serialize;
 /// Rays traced, by kind.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
 pub struct RayCounts {
-    /// Primary rays from the camera.
+    /// Primary rays from a pinhole camera (aperture 0).
     pub camera: u64,
-    /// Shadow rays towards lights.
+    /// Primary rays from a thin lens (aperture > 0): one per lens sample.
+    pub lens: u64,
+    /// Shadow rays towards point and directional lights.
     pub shadow: u64,
+    /// Shadow rays towards samples of area lights.
+    pub area_shadow: u64,
     /// Mirror-reflection rays.
     pub reflection: u64,
+    /// Glossy-reflection rays (a cone around the mirror direction).
+    pub glossy: u64,
     /// Refraction rays (including the reflection that replaces one under total internal reflection).
     pub refraction: u64,
+    /// Blurry-refraction rays (a cone around the refracted direction).
+    pub blurry: u64,
 }
 
 impl RayCounts {
     /// All rays.
     pub fn total(&self) -> u64 {
-        self.camera + self.shadow + self.reflection + self.refraction
+        self.primary()
+            + self.shadow
+            + self.area_shadow
+            + self.reflection
+            + self.glossy
+            + self.refraction
+            + self.blurry
+    }
+
+    /// Rays leaving the camera (pinhole or lens).
+    pub fn primary(&self) -> u64 {
+        self.camera + self.lens
     }
 
     /// Adds another count.
     pub fn add(&mut self, o: &RayCounts) {
         self.camera += o.camera;
+        self.lens += o.lens;
         self.shadow += o.shadow;
+        self.area_shadow += o.area_shadow;
         self.reflection += o.reflection;
+        self.glossy += o.glossy;
         self.refraction += o.refraction;
+        self.blurry += o.blurry;
     }
+}
+
+/// What adaptive supersampling did.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct AdaptiveCounts {
+    /// Lattice points traced (pixel corners, then subdivision points).
+    pub traced: u64,
+    /// Lattice points a sub-square or pixel needed that were already traced by a neighbour.
+    pub reused: u64,
+    /// Squares subdivided.
+    pub subdivisions: u64,
 }
 
 /// Wall time of each stage of a frame, in seconds.
@@ -75,6 +109,8 @@ pub struct RenderStats {
     pub threads: usize,
     /// Rays by kind.
     pub rays: RayCounts,
+    /// Adaptive supersampling figures (zero when it is off).
+    pub adaptive: AdaptiveCounts,
     /// Seconds per stage.
     pub times: StageTimes,
     /// Grid figures.
@@ -102,7 +138,8 @@ impl RenderStats {
         let r = &self.rays;
         format!(
             "image      {}x{}, {} threads\n\
-             rays       {} total: camera {}, shadow {}, reflection {}, refraction {}\n\
+             rays       {} total: camera {}, lens {}, shadow {}, area shadow {}, reflection {}, glossy {}, refraction {}, blurry {}\n\
+             adaptive   {} points traced, {} reused, {} subdivisions\n\
              speed      {:.2} Mrays/s\n\
              grid       {}x{}x{} cells, {} objects, {} references, {} B grid, {} B store\n\
              time (ms)  load {:.2}, world {:.2}, grid build {:.2}, snapshot {:.2}, trace {:.2}, write {:.2}",
@@ -111,9 +148,16 @@ impl RenderStats {
             self.threads,
             r.total(),
             r.camera,
+            r.lens,
             r.shadow,
+            r.area_shadow,
             r.reflection,
+            r.glossy,
             r.refraction,
+            r.blurry,
+            self.adaptive.traced,
+            self.adaptive.reused,
+            self.adaptive.subdivisions,
             self.mrays_per_s(),
             self.grid.dims[0],
             self.grid.dims[1],

@@ -97,6 +97,10 @@ impl<S: PrimitiveStore + 'static> SceneWorld<S> {
             min_contribution: s.min_contribution,
             seed: s.seed,
             frame: s.frame,
+            aa: s.aa,
+            adaptive: s.adaptive,
+            lens: s.lens,
+            glossy: s.glossy,
         }
     }
 

@@ -7,8 +7,9 @@ use bevy_ecs::prelude::{Entity, Resource};
 
 use crate::accel::{UniformGrid, DEFAULT_LAMBDA};
 use crate::math::Vec3;
+use crate::sample::adaptive::AdaptiveSettings;
 use crate::store::{MaterialId, PrimitiveStore};
-use crate::trace::{Material, TraceScene};
+use crate::trace::{AntiAliasing, Material, RenderSettings, Sampling, TraceScene};
 
 /// Material table; [`MaterialId`] indexes it. Names are kept for scripts and messages.
 #[derive(Resource, Debug, Clone, Default)]
@@ -37,6 +38,35 @@ pub struct CameraRig {
     pub up: Vec3,
     /// Vertical field of view in radians.
     pub fov_y: f32,
+    /// Lens radius (0: pinhole).
+    pub aperture: f32,
+    /// What is in focus.
+    pub focus: Focus,
+}
+
+/// What a thin-lens camera keeps sharp.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Focus {
+    /// The plane through the look-at point.
+    LookAt,
+    /// The plane at this distance along the view direction.
+    Distance(f32),
+    /// The plane through this point (its depth along the view direction); follows the camera.
+    Point(Vec3),
+}
+
+impl CameraRig {
+    /// The camera this rig describes, its focus resolved against the current pose.
+    pub fn camera(&self) -> crate::camera::Camera {
+        let camera = crate::camera::Camera::look_at(self.position, self.look_at, self.up, self.fov_y);
+        let distance = match self.focus {
+            Focus::LookAt => camera.focus_distance,
+            Focus::Distance(d) => d,
+            // Validation keeps the point in front of the camera; clamp for script-driven poses.
+            Focus::Point(p) => (p - self.position).dot(camera.forward).max(f32::MIN_POSITIVE),
+        };
+        camera.with_lens(self.aperture, distance)
+    }
 }
 
 /// Frame-wide render settings.
@@ -60,6 +90,14 @@ pub struct SceneSettings {
     pub frame: u32,
     /// Grid density: cells ≈ λ · objects.
     pub lambda: f32,
+    /// Anti-aliasing.
+    pub aa: AntiAliasing,
+    /// Adaptive supersampling (replaces `aa` when set).
+    pub adaptive: Option<AdaptiveSettings>,
+    /// Lens samples per camera sample.
+    pub lens: Sampling,
+    /// Rays per glossy reflection or blurry refraction at the first bounce.
+    pub glossy: Sampling,
 }
 
 impl Default for SceneSettings {
@@ -74,6 +112,10 @@ impl Default for SceneSettings {
             seed: 0,
             frame: 0,
             lambda: DEFAULT_LAMBDA,
+            aa: AntiAliasing::default(),
+            adaptive: None,
+            lens: Sampling::default(),
+            glossy: RenderSettings::default().glossy,
         }
     }
 }

@@ -5,7 +5,6 @@ use std::time::Instant;
 
 use bevy_ecs::prelude::{Entity, Query, Res, ResMut};
 
-use crate::camera::Camera;
 use crate::store::{PlacedObject, PrimitiveStore};
 use crate::trace::{SceneTables, TraceScene};
 use crate::world::components::{Light, MaterialRef, WorldAabb, WorldShape};
@@ -49,7 +48,7 @@ pub fn build_snapshot<S: PrimitiveStore + 'static>(
     let tables = SceneTables {
         materials: materials.table.clone(),
         lights: lights.iter().map(|(_, l)| l.0).collect(),
-        camera: Camera::look_at(rig.position, rig.look_at, rig.up, rig.fov_y),
+        camera: rig.camera(),
         background: settings.background,
         ambient: settings.ambient,
     };

@@ -1,0 +1,39 @@
+//! The effects a snapshot needs, derived once from its materials, lights and camera, so the
+//! integrator's code for an absent effect never runs.
+
+use super::light::Light;
+use super::material::Material;
+use crate::camera::Camera;
+
+/// Scene-level effects present in a snapshot. (Image-level ones, anti-aliasing and adaptive
+/// supersampling, come from `RenderSettings`.)
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Effects {
+    /// Some material is a sharp mirror (kr > 0, glossiness 0).
+    pub reflection: bool,
+    /// Some material reflects glossily (kr > 0, glossiness > 0).
+    pub glossy: bool,
+    /// Some material transmits (kt > 0): shadow rays must accumulate transmittance.
+    pub transmission: bool,
+    /// Some material refracts blurrily (kt > 0, glossiness > 0).
+    pub blurry: bool,
+    /// Some light has an area (soft shadows).
+    pub area_lights: bool,
+    /// The camera has a finite aperture (depth of field).
+    pub lens: bool,
+}
+
+impl Effects {
+    /// The effects of a scene.
+    pub fn of(materials: &[Material], lights: &[Light], camera: &Camera) -> Self {
+        let any = |f: fn(&Material) -> bool| materials.iter().any(f);
+        Self {
+            reflection: any(|m| m.kr > 0.0 && m.glossiness == 0.0),
+            glossy: any(|m| m.kr > 0.0 && m.glossiness > 0.0),
+            transmission: any(|m| m.kt > 0.0),
+            blurry: any(|m| m.kt > 0.0 && m.glossiness > 0.0),
+            area_lights: lights.iter().any(Light::is_area),
+            lens: camera.has_lens(),
+        }
+    }
+}

@@ -1,0 +1,94 @@
+//! Direct light with the Phong model: ambient is added by the caller; each light (or each
+//! sample of an area light) adds `(kd·max(N·L, 0) + ks·max(R·V, 0)^shininess) × radiance ×
+//! transmittance` of its shadow ray.
+
+use super::integrator::{transmittance, PathContext};
+use super::light::Light;
+use super::material::Material;
+use super::scene::TraceScene;
+use crate::math::{reflect, Ray, Vec3};
+use crate::store::PrimitiveStore;
+
+/// A shading point: where it is, the normal on the side the ray arrived from, and the point
+/// lifted off the surface along that normal by `eps` (shadow rays start there).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Surface {
+    /// Hit point.
+    pub point: Vec3,
+    /// Unit normal facing the incoming ray.
+    pub normal: Vec3,
+    /// `point + normal · eps`.
+    pub above: Vec3,
+    /// Offset distance of secondary rays at this point.
+    pub eps: f32,
+}
+
+/// The Phong bracket `kd·N·L + ks·(R·V)^shininess` for unit `to_light` with `N·L > 0`.
+#[inline]
+pub fn phong(m: &Material, normal: Vec3, view: Vec3, to_light: Vec3, n_dot_l: f32) -> Vec3 {
+    let diffuse = m.kd * n_dot_l;
+    if m.ks > 0.0 {
+        let r_dot_v = reflect(-to_light, normal).dot(view).max(0.0);
+        diffuse + Vec3::splat(m.ks * r_dot_v.powf(m.shininess))
+    } else {
+        diffuse
+    }
+}
+
+/// Light arriving directly from every light source, Phong-weighted and shadowed.
+/// An area light's samples are a per-pixel budget shared among the pixel's camera samples
+/// (stratified across them); each traces one shadow ray.
+pub fn direct_light<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    m: &Material,
+    s: &Surface,
+    view: Vec3,
+    ctx: &mut PathContext<'_>,
+) -> Vec3 {
+    let mut colour = Vec3::ZERO;
+    for light in &scene.lights {
+        if light.is_area() {
+            colour += area_light(scene, light, m, s, view, ctx);
+            continue;
+        }
+        let (to_light, dist, radiance) = light.towards(s.point);
+        let n_dot_l = s.normal.dot(to_light);
+        if n_dot_l <= 0.0 {
+            continue;
+        }
+        ctx.rays.shadow += 1;
+        let pass = transmittance(scene, &Ray::new(s.above, to_light), dist - s.eps);
+        if pass > 0.0 {
+            colour += radiance * pass * phong(m, s.normal, view, to_light, n_dot_l);
+        }
+    }
+    colour
+}
+
+/// The samples of one area light, each a point light of `radiance / samples`.
+fn area_light<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    light: &Light,
+    m: &Material,
+    s: &Surface,
+    view: Vec3,
+    ctx: &mut PathContext<'_>,
+) -> Vec3 {
+    let samples = ctx.effect_samples(light.samples());
+    // Each sample stands for `1 / count` of the light as this camera sample sees it.
+    let share = 1.0 / samples.taken() as f32;
+    let mut colour = Vec3::ZERO;
+    for (stratum, u) in samples {
+        let (to_light, dist, radiance) = light.sample(s.point, stratum, u);
+        let n_dot_l = s.normal.dot(to_light);
+        if n_dot_l <= 0.0 || dist <= s.eps {
+            continue;
+        }
+        ctx.rays.area_shadow += 1;
+        let pass = transmittance(scene, &Ray::new(s.above, to_light), dist - s.eps);
+        if pass > 0.0 {
+            colour += radiance * (pass * share) * phong(m, s.normal, view, to_light, n_dot_l);
+        }
+    }
+    colour
+}
