@@ -183,3 +183,56 @@ fn a_closed_stdout_is_not_an_error() {
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(dir.path().join("img.png").exists() && dir.path().join("s.json").exists());
 }
+
+#[test]
+fn effect_flags_override_the_scene_and_bad_ones_are_rejected() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = run(
+        dir.path(),
+        &[
+            "render",
+            "-o",
+            "img.png",
+            "--width",
+            "16",
+            "--samples",
+            "aa=4",
+            "--pattern",
+            "aa=grid",
+            "--aperture",
+            "0.1",
+            "--samples",
+            "lens=2",
+            "--stats",
+            "s.json",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let stats: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("s.json")).unwrap()).unwrap();
+    assert_eq!(stats["rays"]["camera"], 0, "an aperture turns camera rays into lens rays");
+    assert_eq!(stats["rays"]["lens"], 16 * 12 * 4 * 2);
+
+    let out = run(
+        dir.path(),
+        &["render", "-o", "a.png", "--width", "16", "--adaptive", "0.05:2", "--stats", "a.json"],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let stats: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("a.json")).unwrap()).unwrap();
+    assert!(stats["adaptive"]["traced"].as_u64().unwrap() >= 17 * 13);
+
+    for bad in [
+        &["--samples", "blur=3"][..],
+        &["--samples", "aa=0"],
+        &["--pattern", "aa=sobol"],
+        &["--adaptive", "0.1:9"],
+        &["--aperture", "-1"],
+    ] {
+        let mut args = vec!["render", "-o", "bad.png", "--width", "8"];
+        args.extend_from_slice(bad);
+        let out = run(dir.path(), &args);
+        assert!(!out.status.success(), "{bad:?} accepted");
+        assert!(!dir.path().join("bad.png").exists());
+    }
+}
