@@ -47,6 +47,8 @@ fn a_scene_without_effects_traces_one_camera_ray_per_pixel_and_no_effect_rays() 
     assert_eq!(stats.rays.camera, 40 * 30);
     no_effect_rays(&stats.rays);
     assert!(stats.rays.shadow > 0 && stats.rays.reflection > 0 && stats.rays.refraction > 0);
+    assert_eq!(stats.effects.names(), ["reflection", "transmission"]);
+    assert_eq!(stats.samples_per_pixel, 1);
 }
 
 #[test]

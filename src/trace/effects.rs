@@ -7,7 +7,7 @@ use crate::camera::Camera;
 
 /// Scene-level effects present in a snapshot. (Image-level ones, anti-aliasing and adaptive
 /// supersampling, come from `RenderSettings`.)
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
 pub struct Effects {
     /// Some material is a sharp mirror (kr > 0, glossiness 0).
     pub reflection: bool,
@@ -24,6 +24,21 @@ pub struct Effects {
 }
 
 impl Effects {
+    /// Names of the effects present, for reports (`reflection`, `glossy`, …).
+    pub fn names(&self) -> Vec<&'static str> {
+        [
+            (self.reflection, "reflection"),
+            (self.glossy, "glossy"),
+            (self.transmission, "transmission"),
+            (self.blurry, "blurry"),
+            (self.area_lights, "area_lights"),
+            (self.lens, "lens"),
+        ]
+        .iter()
+        .filter_map(|&(on, name)| on.then_some(name))
+        .collect()
+    }
+
     /// The effects of a scene.
     pub fn of(materials: &[Material], lights: &[Light], camera: &Camera) -> Self {
         let any = |f: fn(&Material) -> bool| materials.iter().any(f);

@@ -122,6 +122,14 @@ pub fn render<S: PrimitiveStore>(scene: &TraceScene<S>, settings: &RenderSetting
         threads: rayon::current_num_threads(),
         rays,
         adaptive,
+        effects: scene.effects,
+        samples_per_pixel: match settings.adaptive {
+            Some(_) => 0,
+            None => {
+                let lens = if scene.camera.has_lens() { settings.lens.samples.max(1) } else { 1 };
+                settings.aa.sampling.samples.max(1) * lens
+            }
+        },
         ..Default::default()
     };
     stats.times.trace = started.elapsed().as_secs_f64();

@@ -4,6 +4,8 @@ use std::time::Duration;
 
 use serde::Serialize;
 
+use super::effects::Effects;
+
 /// Rays traced, by kind.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
 pub struct RayCounts {
@@ -111,6 +113,10 @@ pub struct RenderStats {
     pub rays: RayCounts,
     /// Adaptive supersampling figures (zero when it is off).
     pub adaptive: AdaptiveCounts,
+    /// Scene-level effects the frame was traced with.
+    pub effects: Effects,
+    /// Camera samples per pixel (AA × lens; 0 with adaptive supersampling, which varies).
+    pub samples_per_pixel: u32,
     /// Seconds per stage.
     pub times: StageTimes,
     /// Grid figures.
@@ -137,7 +143,7 @@ impl RenderStats {
         let t = &self.times;
         let r = &self.rays;
         format!(
-            "image      {}x{}, {} threads\n\
+            "image      {}x{}, {} threads, {} camera samples per pixel, effects: {}\n\
              rays       {} total: camera {}, lens {}, shadow {}, area shadow {}, reflection {}, glossy {}, refraction {}, blurry {}\n\
              adaptive   {} points traced, {} reused, {} subdivisions\n\
              speed      {:.2} Mrays/s\n\
@@ -146,6 +152,8 @@ impl RenderStats {
             self.width,
             self.height,
             self.threads,
+            self.samples_per_pixel,
+            if self.effects.names().is_empty() { "none".to_string() } else { self.effects.names().join(", ") },
             r.total(),
             r.camera,
             r.lens,
