@@ -1,9 +1,13 @@
 //! The film: a linear-light RGB image, and its encoding to files.
 
+pub mod aov;
 pub mod metrics;
 pub mod output;
+pub mod tonemap;
 
+pub use aov::{AovSet, Aovs};
 pub use metrics::{psnr, rmse};
+pub use tonemap::{ToneMapping, ToneOperator};
 pub use output::{encode_srgb8, linear_to_srgb, write_atomically, write_png, OutputError};
 
 use crate::math::Vec3;
