@@ -4,6 +4,7 @@
 //! Nothing here touches the ECS: [`render`] is a pure function of a [`TraceScene`] and
 //! [`RenderSettings`], which is what makes it testable without a World and deterministic.
 
+pub mod aov;
 pub mod effects;
 pub mod integrator;
 pub mod light;
@@ -17,6 +18,6 @@ pub use effects::Effects;
 pub use integrator::{closest_hit, closest_hit_brute};
 pub use light::Light;
 pub use material::Material;
-pub use render::{render, AntiAliasing, RenderSettings, Sampling};
+pub use render::{render, render_with_aovs, AntiAliasing, RenderSettings, Sampling};
 pub use scene::{SceneTables, TraceScene};
 pub use stats::{AdaptiveCounts, GridStats, RayCounts, RenderStats, StageTimes};

@@ -16,10 +16,11 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+use super::aov::first_hit_aovs;
 use super::integrator::{radiance, CameraSample, PathContext};
 use super::scene::TraceScene;
 use super::stats::{AdaptiveCounts, GridStats, RayCounts, RenderStats};
-use crate::film::Film;
+use crate::film::{AovSet, Aovs, Film};
 use crate::math::{Ray, Vec2, Vec3};
 use crate::sample::adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint};
 use crate::sample::pattern::{disk_point, square_point};
@@ -108,14 +109,36 @@ impl Default for RenderSettings {
 /// Renders a snapshot into a linear film. Pure: the same inputs give the same bits for any
 /// thread count or tile order, because each pixel depends only on its coordinates.
 pub fn render<S: PrimitiveStore>(scene: &TraceScene<S>, settings: &RenderSettings) -> (Film, RenderStats) {
+    let (film, _, stats) = render_with_aovs(scene, settings, AovSet::default());
+    (film, stats)
+}
+
+/// [`render`], plus the requested AOVs (`None` when the set is empty: no buffer, no extra
+/// ray). First-hit AOVs come from one geometric probe ray per pixel through its centre (counted
+/// as `aov` rays); the cost AOV counts every ray the pixel traced.
+pub fn render_with_aovs<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    settings: &RenderSettings,
+    wanted: AovSet,
+) -> (Film, Option<Aovs>, RenderStats) {
     let started = Instant::now();
-    let (film, rays, adaptive) = match settings.adaptive {
-        Some(adaptive) => render_adaptive(scene, settings, &adaptive),
+    if settings.width == 0 || settings.height == 0 {
+        let empty = (!wanted.is_empty()).then(|| Aovs::new(wanted, settings.width, settings.height));
+        return (Film::new(settings.width, settings.height), empty, RenderStats::default());
+    }
+    let (film, mut rays, adaptive, cost) = match settings.adaptive {
+        Some(adaptive) => render_adaptive(scene, settings, &adaptive, wanted.cost),
         None => {
-            let (film, rays) = render_tiles(settings, |x, y, rays| fixed_pixel(scene, settings, x, y, rays));
-            (film, rays, AdaptiveCounts::default())
+            let pixel = |x, y, rays: &mut RayCounts| fixed_pixel(scene, settings, x, y, rays);
+            let (film, rays, cost) = render_tiles(settings, wanted.cost, pixel);
+            (film, rays, AdaptiveCounts::default(), cost)
         }
     };
+    let aovs = (!wanted.is_empty()).then(|| {
+        let mut aovs = first_hit_aovs(scene, settings, wanted, &mut rays);
+        aovs.cost = cost;
+        aovs
+    });
     let mut stats = RenderStats {
         width: settings.width,
         height: settings.height,
@@ -140,43 +163,76 @@ pub fn render<S: PrimitiveStore>(scene: &TraceScene<S>, settings: &RenderSetting
         grid_bytes: scene.grid.memory_bytes() as u64,
         store_bytes: scene.store.memory_bytes() as u64,
     };
-    (film, stats)
+    (film, aovs, stats)
 }
 
-/// Runs `pixel` over every pixel, tiles in parallel, and assembles the film in tile order.
-fn render_tiles<F>(settings: &RenderSettings, pixel: F) -> (Film, RayCounts)
+/// The output of one tile: colours, and rays per pixel when the cost AOV is wanted.
+type TileResult = (Vec<Vec3>, Vec<u32>, RayCounts);
+
+/// Runs `pixel` over every pixel, tiles in parallel, and assembles the film (and the cost
+/// image when `want_cost`) in tile order.
+fn render_tiles<F>(
+    settings: &RenderSettings,
+    want_cost: bool,
+    pixel: F,
+) -> (Film, RayCounts, Option<Vec<u32>>)
 where
     F: Fn(u32, u32, &mut RayCounts) -> Vec3 + Sync,
 {
     let (w, h) = (settings.width, settings.height);
     let tiles_x = w.div_ceil(TILE);
-    let tiles: Vec<(Vec<Vec3>, RayCounts)> = (0..tiles_x * h.div_ceil(TILE))
+    let tiles: Vec<TileResult> = (0..tiles_x * h.div_ceil(TILE))
         .into_par_iter()
         .map(|tile| {
             let (x0, y0) = (tile % tiles_x * TILE, tile / tiles_x * TILE);
             let mut rays = RayCounts::default();
             let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
+            let mut costs = Vec::new();
             for y in y0..(y0 + TILE).min(h) {
                 for x in x0..(x0 + TILE).min(w) {
+                    let before = rays.total();
                     let c = pixel(x, y, &mut rays);
                     debug_assert!(c.is_finite(), "non-finite radiance at pixel ({x}, {y})");
                     pixels.push(c);
+                    if want_cost {
+                        costs.push(saturate(rays.total() - before));
+                    }
                 }
             }
-            (pixels, rays)
+            (pixels, costs, rays)
         })
         .collect();
+    assemble(settings, &tiles, want_cost)
+}
+
+/// The film, total counts and (if wanted) cost image from per-tile results in tile order.
+fn assemble(
+    settings: &RenderSettings,
+    tiles: &[TileResult],
+    want_cost: bool,
+) -> (Film, RayCounts, Option<Vec<u32>>) {
+    let (w, h) = (settings.width, settings.height);
+    let tiles_x = w.div_ceil(TILE);
     let mut film = Film::new(w, h);
+    let mut cost = want_cost.then(|| vec![0u32; w as usize * h as usize]);
     let mut rays = RayCounts::default();
-    for (tile, (pixels, counts)) in tiles.iter().enumerate() {
+    for (tile, (pixels, costs, counts)) in tiles.iter().enumerate() {
         let (x0, y0) = (tile as u32 % tiles_x * TILE, tile as u32 / tiles_x * TILE);
         let tw = TILE.min(w - x0);
         for (k, &c) in pixels.iter().enumerate() {
-            film.set(x0 + k as u32 % tw, y0 + k as u32 / tw, c);
+            let (x, y) = (x0 + k as u32 % tw, y0 + k as u32 / tw);
+            film.set(x, y, c);
+            if let (Some(cost), Some(&n)) = (cost.as_mut(), costs.get(k)) {
+                cost[(y * w + x) as usize] += n;
+            }
         }
         rays.add(counts);
     }
-    (film, rays)
+    (film, rays, cost)
+}
+
+fn saturate(n: u64) -> u32 {
+    u32::try_from(n).unwrap_or(u32::MAX)
 }
 
 /// A pixel as the mean of its fixed set of camera samples.
@@ -241,69 +297,80 @@ fn trace_camera_ray<S: PrimitiveStore>(
 }
 
 /// Adaptive supersampling: the `(W+1) × (H+1)` pixel corners first (each traced once), then
-/// every pixel refined by corner subdivision, tiles in parallel with a cache per tile.
+/// every pixel refined by corner subdivision, tiles in parallel with a cache per tile. In the
+/// cost image a corner's rays count for the pixel whose top-left corner it is (clamped).
 fn render_adaptive<S: PrimitiveStore>(
     scene: &TraceScene<S>,
     settings: &RenderSettings,
     adaptive: &AdaptiveSettings,
-) -> (Film, RayCounts, AdaptiveCounts) {
+    want_cost: bool,
+) -> (Film, RayCounts, AdaptiveCounts, Option<Vec<u32>>) {
     let (w, h) = (settings.width, settings.height);
     let res = adaptive.resolution();
     let point = |p: LatticePoint, rays: &mut RayCounts| lattice_sample(scene, settings, res, p, rays);
 
-    // Pass 1: the corner lattice, rows in parallel.
-    let rows: Vec<(Vec<Vec3>, RayCounts)> = (0..=h)
+    // Pass 1: the corner lattice, rows in parallel, with each corner's ray count.
+    let rows: Vec<(Vec<Vec3>, Vec<u32>, RayCounts)> = (0..=h)
         .into_par_iter()
         .map(|cy| {
             let mut rays = RayCounts::default();
-            let row = (0..=w).map(|cx| point(LatticePoint { x: cx * res, y: cy * res }, &mut rays)).collect();
-            (row, rays)
+            let mut costs = Vec::with_capacity(w as usize + 1);
+            let row = (0..=w)
+                .map(|cx| {
+                    let before = rays.total();
+                    let c = point(LatticePoint { x: cx * res, y: cy * res }, &mut rays);
+                    costs.push(saturate(rays.total() - before));
+                    c
+                })
+                .collect();
+            (row, costs, rays)
         })
         .collect();
-    let mut rays = RayCounts::default();
-    rows.iter().for_each(|(_, r)| rays.add(r));
     let corner = |cx: u32, cy: u32| rows[cy as usize].0[cx as usize];
 
-    // Pass 2: refinement. Counts of each pixel are gathered through the tile's RayCounts; the
-    // adaptive figures through a per-tile accumulator folded in below.
-    let refined: Vec<(Vec<Vec3>, RayCounts, AdaptiveStats)> = {
-        let tiles_x = w.div_ceil(TILE);
-        (0..tiles_x * h.div_ceil(TILE))
-            .into_par_iter()
-            .map(|tile| {
-                let (x0, y0) = (tile % tiles_x * TILE, tile / tiles_x * TILE);
-                let mut rays = RayCounts::default();
-                let mut stats = AdaptiveStats::default();
-                let mut cache = HashMap::new();
-                let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
-                for y in y0..(y0 + TILE).min(h) {
-                    for x in x0..(x0 + TILE).min(w) {
-                        let corners =
-                            [corner(x, y), corner(x + 1, y), corner(x, y + 1), corner(x + 1, y + 1)];
-                        let mut trace = |p: LatticePoint| point(p, &mut rays);
-                        pixels
-                            .push(refine_pixel(x, y, corners, adaptive, &mut cache, &mut trace, &mut stats));
+    // Pass 2: refinement, tiles in parallel, each with its own cache and adaptive figures.
+    let tiles_x = w.div_ceil(TILE);
+    let refined: Vec<(TileResult, AdaptiveStats)> = (0..tiles_x * h.div_ceil(TILE))
+        .into_par_iter()
+        .map(|tile| {
+            let (x0, y0) = (tile % tiles_x * TILE, tile / tiles_x * TILE);
+            let mut rays = RayCounts::default();
+            let mut stats = AdaptiveStats::default();
+            let mut cache = HashMap::new();
+            let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
+            let mut costs = Vec::new();
+            for y in y0..(y0 + TILE).min(h) {
+                for x in x0..(x0 + TILE).min(w) {
+                    let corners = [corner(x, y), corner(x + 1, y), corner(x, y + 1), corner(x + 1, y + 1)];
+                    let before = rays.total();
+                    let mut trace = |p: LatticePoint| point(p, &mut rays);
+                    pixels.push(refine_pixel(x, y, corners, adaptive, &mut cache, &mut trace, &mut stats));
+                    if want_cost {
+                        costs.push(saturate(rays.total() - before));
                     }
                 }
-                (pixels, rays, stats)
-            })
-            .collect()
-    };
-    let mut film = Film::new(w, h);
+            }
+            ((pixels, costs, rays), stats)
+        })
+        .collect();
     let mut counts = AdaptiveCounts { traced: u64::from(w + 1) * u64::from(h + 1), ..Default::default() };
-    let tiles_x = w.div_ceil(TILE);
-    for (tile, (pixels, tile_rays, stats)) in refined.iter().enumerate() {
-        let (x0, y0) = (tile as u32 % tiles_x * TILE, tile as u32 / tiles_x * TILE);
-        let tw = TILE.min(w - x0);
-        for (k, &c) in pixels.iter().enumerate() {
-            film.set(x0 + k as u32 % tw, y0 + k as u32 / tw, c);
+    refined.iter().for_each(|(_, s)| {
+        counts.traced += s.traced;
+        counts.reused += s.reused;
+        counts.subdivisions += s.subdivisions;
+    });
+    let tiles: Vec<TileResult> = refined.into_iter().map(|(t, _)| t).collect();
+    let (film, mut rays, mut cost) = assemble(settings, &tiles, want_cost);
+    for (cy, (_, costs, row_rays)) in rows.iter().enumerate() {
+        rays.add(row_rays);
+        if let Some(cost) = cost.as_mut() {
+            let y = (cy as u32).min(h - 1);
+            for (cx, &n) in costs.iter().enumerate() {
+                cost[(y * w + (cx as u32).min(w - 1)) as usize] += n;
+            }
         }
-        rays.add(tile_rays);
-        counts.traced += stats.traced;
-        counts.reused += stats.reused;
-        counts.subdivisions += stats.subdivisions;
     }
-    (film, rays, counts)
+    (film, rays, counts, cost)
 }
 
 /// The colour at a lattice point (image position `p / res`): one camera sample, with one lens

@@ -46,6 +46,9 @@ pub struct TraceScene<S: PrimitiveStore = SoaStore> {
     pub effects: Effects,
     /// Floor of the magnitude used for ray offsets: a tiny fraction of the scene's size.
     pub offset_floor: f32,
+    /// Scene names of the objects, bounded ones in grid-id order then unbounded ones (empty
+    /// when the snapshot was not built from a World); the legend of the object-id AOV.
+    pub object_names: Vec<String>,
 }
 
 impl<S: PrimitiveStore> TraceScene<S> {
@@ -74,6 +77,7 @@ impl<S: PrimitiveStore> TraceScene<S> {
             ambient,
             effects,
             offset_floor,
+            object_names: Vec::new(),
         }
     }
 

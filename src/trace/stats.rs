@@ -25,6 +25,8 @@ pub struct RayCounts {
     pub refraction: u64,
     /// Blurry-refraction rays (a cone around the refracted direction).
     pub blurry: u64,
+    /// Probe rays of first-hit AOVs (one per pixel, only when such an AOV is asked for).
+    pub aov: u64,
 }
 
 impl RayCounts {
@@ -37,6 +39,7 @@ impl RayCounts {
             + self.glossy
             + self.refraction
             + self.blurry
+            + self.aov
     }
 
     /// Rays leaving the camera (pinhole or lens).
@@ -54,6 +57,7 @@ impl RayCounts {
         self.glossy += o.glossy;
         self.refraction += o.refraction;
         self.blurry += o.blurry;
+        self.aov += o.aov;
     }
 }
 

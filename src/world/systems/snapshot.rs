@@ -7,14 +7,14 @@ use bevy_ecs::prelude::{Entity, Query, Res, ResMut};
 
 use crate::store::{PlacedObject, PrimitiveStore};
 use crate::trace::{SceneTables, TraceScene};
-use crate::world::components::{Light, MaterialRef, WorldAabb, WorldShape};
+use crate::world::components::{Light, MaterialRef, Name, WorldAabb, WorldShape};
 use crate::world::resources::{CameraRig, GridIndex, Materials, SceneSettings, Snapshot, StageClock};
 
 /// Builds this frame's snapshot: bounded objects in grid order, planes in entity order, lights
 /// in entity order, and the material table, camera and settings.
 #[allow(clippy::too_many_arguments)]
 pub fn build_snapshot<S: PrimitiveStore + 'static>(
-    objects: Query<(Entity, &WorldShape, &WorldAabb, &MaterialRef)>,
+    objects: Query<(Entity, &WorldShape, &WorldAabb, &MaterialRef, Option<&Name>)>,
     lights: Query<(Entity, &Light)>,
     index: Res<GridIndex>,
     materials: Res<Materials>,
@@ -33,14 +33,22 @@ pub fn build_snapshot<S: PrimitiveStore + 'static>(
         .entities
         .iter()
         .filter_map(|&e| objects.get(e).ok())
-        .map(|(_, shape, _, material)| placed(shape, material))
+        .map(|(_, shape, _, material, _)| placed(shape, material))
         .collect();
     debug_assert_eq!(bounded.len(), index.entities.len(), "grid index out of date");
 
-    let mut planes: Vec<_> = objects.iter().filter(|(_, _, aabb, _)| !aabb.is_bounded()).collect();
+    let mut planes: Vec<_> = objects.iter().filter(|(_, _, aabb, ..)| !aabb.is_bounded()).collect();
     planes.sort_unstable_by_key(|(e, ..)| *e);
     let unbounded: Vec<PlacedObject> =
-        planes.iter().map(|(_, shape, _, material)| placed(shape, material)).collect();
+        planes.iter().map(|(_, shape, _, material, _)| placed(shape, material)).collect();
+    let name = |name: Option<&Name>| name.map_or_else(String::new, |n| n.as_str().to_owned());
+    let object_names: Vec<String> = index
+        .entities
+        .iter()
+        .filter_map(|&e| objects.get(e).ok())
+        .map(|(.., n)| name(n))
+        .chain(planes.iter().map(|(.., n)| name(*n)))
+        .collect();
 
     let mut lights: Vec<_> = lights.iter().collect();
     lights.sort_unstable_by_key(|(e, _)| *e);
@@ -52,6 +60,8 @@ pub fn build_snapshot<S: PrimitiveStore + 'static>(
         background: settings.background,
         ambient: settings.ambient,
     };
-    snapshot.0 = Some(Arc::new(TraceScene::with_grid(index.grid.clone(), &bounded, &unbounded, tables)));
+    let mut scene = TraceScene::with_grid(index.grid.clone(), &bounded, &unbounded, tables);
+    scene.object_names = object_names;
+    snapshot.0 = Some(Arc::new(scene));
     clock.snapshot = started.elapsed().as_secs_f64();
 }
