@@ -2,7 +2,7 @@
 //! right line, column and field, and say what is wrong. Each case changes one line of a
 //! small valid scene; expected columns are found by searching the changed line.
 
-use penumbra::scene::{load_scene, parse_scene, SceneError};
+use penumbra::scene::{load_scene, parse_scene, SceneError, ToneOperator};
 
 /// A small valid scene using every type; tests change one line of it.
 const BASE: &str = r#"// A minimal valid scene; each test changes one line.
@@ -897,4 +897,41 @@ fn random_deletions_and_insertions_load_or_fail_cleanly() {
     {
         assert!(parse_scene(nasty, "nasty.ron").is_err());
     }
+}
+
+/// `EFFECTS` with a tone-mapping line added to its settings (line 17).
+fn tonemapped(tonemap: &str) -> String {
+    EFFECTS.replacen(
+        "        glossy: (samples: 4, pattern: Jittered),\n",
+        &format!("        glossy: (samples: 4, pattern: Jittered),\n        tonemap: {tonemap},\n"),
+        1,
+    )
+}
+
+#[test]
+fn tonemap_parses_with_defaults_and_every_operator() {
+    let scene = parse_scene(EFFECTS, "bad.ron").unwrap();
+    assert_eq!(scene.settings.tonemap, penumbra::scene::ToneMapDesc::default());
+    for (text, op) in
+        [("Clamp", ToneOperator::Clamp), ("Reinhard", ToneOperator::Reinhard), ("Aces", ToneOperator::Aces)]
+    {
+        let scene =
+            parse_scene(&tonemapped(&format!("(operator: {text}, exposure: 1.5, white: 8)")), "bad.ron")
+                .unwrap();
+        assert_eq!(scene.settings.tonemap.operator, op);
+        assert_eq!((scene.settings.tonemap.exposure, scene.settings.tonemap.white), (1.5, 8.0));
+    }
+}
+
+#[test]
+fn tonemap_exposure_is_bounded_and_white_is_positive() {
+    let text = tonemapped("(operator: Reinhard, exposure: 31)");
+    assert_invalid(&text, 17, "31", "settings.tonemap.exposure", &["must be in [-30, 30] stops", "got 31"]);
+    let text = tonemapped("(operator: Reinhard, white: 0)");
+    assert_invalid(&text, 17, "0)", "settings.tonemap.white", &["must be > 0", "got 0"]);
+    let text = tonemapped("(exposure: inf)");
+    assert_invalid(&text, 17, "inf", "settings.tonemap.exposure", &["finite"]);
+    let text = tonemapped("(operator: Filmic)");
+    let err = parse_scene(&text, "bad.ron").unwrap_err().to_string();
+    assert!(err.contains("bad.ron:17:") && err.contains("tonemap.operator"), "{err}");
 }

@@ -42,6 +42,7 @@
 use glam::Vec3;
 use serde::{Deserialize, Deserializer};
 
+pub use crate::film::{ToneMapping, ToneOperator};
 pub use crate::sample::{Filter, Pattern};
 
 /// A whole scene file.
@@ -168,6 +169,28 @@ pub struct SettingsDesc {
     /// use one). Default 8, `Jittered`; a `glossy: (...)` without `samples` also gets 8.
     #[serde(deserialize_with = "glossy_sampling")]
     pub glossy: SamplingDesc,
+    /// How 8- and 16-bit outputs map linear light to display values (EXR stays linear).
+    /// Default: clamp, exposure 0.
+    pub tonemap: ToneMapDesc,
+}
+
+/// Tone mapping of 8- and 16-bit outputs.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ToneMapDesc {
+    /// `Clamp`, `Reinhard` or `Aces` (filmic). Default `Clamp`.
+    pub operator: ToneOperator,
+    /// Exposure in stops (linear values × 2^exposure), in [-30, 30]. Default 0.
+    pub exposure: f32,
+    /// White point of `Reinhard`: the exposed value that maps to 1, > 0. Default 4.
+    pub white: f32,
+}
+
+impl Default for ToneMapDesc {
+    fn default() -> Self {
+        let t = ToneMapping::default();
+        Self { operator: t.operator, exposure: t.exposure, white: t.white }
+    }
 }
 
 impl Default for SettingsDesc {
@@ -181,6 +204,7 @@ impl Default for SettingsDesc {
             aa: AaDesc::default(),
             adaptive: None,
             glossy: SamplingDesc { samples: DEFAULT_GLOSSY_SAMPLES, pattern: Pattern::Jittered },
+            tonemap: ToneMapDesc::default(),
         }
     }
 }

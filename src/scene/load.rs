@@ -174,7 +174,7 @@ fn inside_value(text: &str, path: &FieldPath, (line, col): (usize, usize)) -> bo
 
 /// Whether the field at `path` holds a unit variant written as a bare name.
 fn names_a_variant(path: &FieldPath) -> bool {
-    matches!(path.last(), Some(Segment::Field(name)) if name == "pattern" || name == "filter")
+    matches!(path.last(), Some(Segment::Field(name)) if name == "pattern" || name == "filter" || name == "operator")
 }
 
 /// `path`, ending in the field `name` (ron's span of an unknown or duplicate field name).
@@ -203,12 +203,13 @@ fn expected_type(path: &FieldPath) -> Option<&'static str> {
             _ => "a number",
         },
         (_, Segment::Field(name)) => match name.as_str() {
-            "camera" | "settings" | "transform" | "lens" | "aa" | "glossy" => {
+            "camera" | "settings" | "transform" | "lens" | "aa" | "glossy" | "tonemap" => {
                 "a struct in parentheses `(name: value, ...)`"
             }
             "adaptive" => "a struct in parentheses `(name: value, ...)`, or `None`",
             "pattern" => "a pattern: `Grid`, `Random` or `Jittered`",
             "filter" => "a filter: `Box` or `Tent`",
+            "operator" => "a tone operator: `Clamp`, `Reinhard` or `Aces`",
             "materials" | "lights" | "objects" => "a list in brackets `[...]`",
             "shape" => "a shape: `Sphere(...)`, `Plane(...)`, `Triangle(...)`, `Polygon(...)` or `Box(...)`",
             "width" | "height" | "max_depth" | "samples" => "a whole number (32-bit, unsigned)",

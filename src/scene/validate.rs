@@ -14,7 +14,7 @@ use std::fmt;
 use glam::{DVec3, Vec3};
 
 use super::format::{AdaptiveDesc, CameraDesc, LightDesc, MaterialDesc, ObjectDesc, SceneDesc};
-use super::format::{SamplingDesc, SettingsDesc, ShapeDesc, TransformDesc};
+use super::format::{SamplingDesc, SettingsDesc, ShapeDesc, ToneMapDesc, TransformDesc};
 use super::locate::FieldPath;
 
 /// Largest accepted image width or height, in pixels.
@@ -179,7 +179,27 @@ fn settings(path: &FieldPath, settings: &SettingsDesc) -> Check {
     if let Some(adaptive_desc) = &settings.adaptive {
         adaptive(&path.clone().field("adaptive"), adaptive_desc)?;
     }
-    sampling(&path.clone().field("glossy"), &settings.glossy)
+    sampling(&path.clone().field("glossy"), &settings.glossy)?;
+    tonemap(&path.clone().field("tonemap"), &settings.tonemap)
+}
+
+/// Largest exposure magnitude in stops.
+pub const MAX_EXPOSURE: f32 = 30.0;
+
+fn tonemap(path: &FieldPath, t: &ToneMapDesc) -> Check {
+    finite(path, "exposure", t.exposure)?;
+    if t.exposure.abs() > MAX_EXPOSURE {
+        return fail(
+            path,
+            "exposure",
+            format!("must be in [-{MAX_EXPOSURE}, {MAX_EXPOSURE}] stops, got {}", t.exposure),
+        );
+    }
+    finite(path, "white", t.white)?;
+    if t.white <= 0.0 {
+        return fail(path, "white", format!("must be > 0, got {}", t.white));
+    }
+    Ok(())
 }
 
 fn adaptive(path: &FieldPath, adaptive: &AdaptiveDesc) -> Check {
