@@ -7,7 +7,7 @@ pub mod tonemap;
 
 pub use aov::{AovSet, Aovs};
 pub use metrics::{psnr, rmse};
-pub use tonemap::{ToneMapping, ToneOperator};
+pub use tonemap::{tone_map, ToneMapping, ToneOperator};
 pub use output::{encode_srgb8, linear_to_srgb, write_atomically, write_png, OutputError};
 
 use crate::math::Vec3;
