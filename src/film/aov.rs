@@ -38,7 +38,9 @@ impl AovSet {
                 "object" => set.object = true,
                 "cost" => set.cost = true,
                 other => {
-                    return Err(format!("unknown AOV `{other}`; expected depth, normal, albedo, object or cost"))
+                    return Err(format!(
+                        "unknown AOV `{other}`; expected depth, normal, albedo, object or cost"
+                    ))
                 }
             }
         }

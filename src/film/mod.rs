@@ -1,14 +1,22 @@
 //! The film: a linear-light RGB image, and its encoding to files.
 
 pub mod aov;
+mod aov_png;
+mod exr_io;
+pub mod metadata;
 pub mod metrics;
 pub mod output;
+mod png_io;
 pub mod tonemap;
 
 pub use aov::{AovSet, Aovs};
+pub use metadata::Metadata;
 pub use metrics::{psnr, rmse};
+pub use output::{
+    encode_srgb8, linear_to_srgb, read_exr, read_metadata, write_atomically, write_image, write_png,
+    OutputError, OutputFormat,
+};
 pub use tonemap::{tone_map, ToneMapping, ToneOperator};
-pub use output::{encode_srgb8, linear_to_srgb, write_atomically, write_png, OutputError};
 
 use crate::math::Vec3;
 

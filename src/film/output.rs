@@ -1,15 +1,29 @@
-//! Writing films: sRGB encoding and atomic PNG output (temporary file in the target folder,
-//! then rename), so a crash never leaves a half-written image behind.
+//! Writing films: sRGB encoding, tone-mapped 8/16-bit PNG and linear half/float EXR with AOVs
+//! and metadata, and reading metadata and EXR files back. Every file goes to a temporary file
+//! in the target folder that is synced and then renamed, so a crash never leaves a half-written
+//! image behind.
+//!
+//! Formats ([`OutputFormat`]): `png8`, `png16` (tone-mapped, sRGB; AOVs as viewable
+//! `{stem}.{aov}.png` files, see `aov_png`), `exr-half`, `exr-float` (linear, not tone-mapped;
+//! AOVs as parts of the same file, see `exr_io`).
 
-use std::io::Write;
+use std::fmt;
+use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
+use std::str::FromStr;
 
 use image::codecs::png::PngEncoder;
 use image::{ExtendedColorType, ImageEncoder};
 
+use super::aov::Aovs;
+use super::aov_png::aov_images;
+use super::exr_io::{decode_exr, encode_exr, read_exr_metadata, reserved_key, LEGEND_KEY};
+use super::metadata::Metadata;
+use super::png_io::{encode_png, film_samples, read_png_metadata, Samples};
+use super::tonemap::ToneMapping;
 use super::Film;
 
-/// Failure to write an output file.
+/// Failure to write or read an output file.
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
     /// The file (or its temporary sibling) could not be created, written or renamed.
@@ -28,6 +42,122 @@ pub enum OutputError {
         /// The cause.
         source: image::ImageError,
     },
+    /// The `png` crate rejected the image or its text chunks.
+    #[error("{path}: cannot encode PNG: {source}")]
+    Png {
+        /// The output path.
+        path: PathBuf,
+        /// The cause.
+        source: png::EncodingError,
+    },
+    /// The `exr` crate could not encode or decode the file.
+    #[error("{path}: EXR error: {source}")]
+    Exr {
+        /// The file's path.
+        path: PathBuf,
+        /// The cause.
+        source: exr::error::Error,
+    },
+    /// A file could not be read or understood.
+    #[error("{path}: cannot read image: {message}")]
+    Read {
+        /// The file's path.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+    /// A metadata entry cannot be stored.
+    #[error("{path}: metadata key `{key}`: {reason}")]
+    Metadata {
+        /// The output path.
+        path: PathBuf,
+        /// The offending key.
+        key: String,
+        /// Why it cannot be stored.
+        reason: &'static str,
+    },
+    /// The AOV buffers do not match the film's size.
+    #[error("{path}: AOVs do not match the {width}×{height} film: {message}")]
+    AovSize {
+        /// The output path.
+        path: PathBuf,
+        /// Film width.
+        width: u32,
+        /// Film height.
+        height: u32,
+        /// Which buffer is wrong.
+        message: String,
+    },
+}
+
+/// File format of [`write_image`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum OutputFormat {
+    /// 8-bit sRGB PNG, tone-mapped.
+    Png8,
+    /// 16-bit sRGB PNG, tone-mapped.
+    Png16,
+    /// OpenEXR with 16-bit float colour, linear.
+    ExrHalf,
+    /// OpenEXR with 32-bit float colour, linear.
+    ExrFloat,
+}
+
+impl OutputFormat {
+    /// The default format for a file name: `.png` → [`Png8`](Self::Png8), `.exr` →
+    /// [`ExrHalf`](Self::ExrHalf) (case-insensitive); `None` for anything else.
+    ///
+    /// # Examples
+    /// ```
+    /// # use penumbra::film::OutputFormat;
+    /// # use std::path::Path;
+    /// assert_eq!(OutputFormat::from_path(Path::new("out.EXR")), Some(OutputFormat::ExrHalf));
+    /// assert_eq!(OutputFormat::from_path(Path::new("out.jpg")), None);
+    /// ```
+    pub fn from_path(path: &Path) -> Option<OutputFormat> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "png" => Some(OutputFormat::Png8),
+            "exr" => Some(OutputFormat::ExrHalf),
+            _ => None,
+        }
+    }
+
+    /// True for the EXR formats (linear, not tone-mapped, AOVs inside the file).
+    pub fn is_exr(&self) -> bool {
+        matches!(self, OutputFormat::ExrHalf | OutputFormat::ExrFloat)
+    }
+
+    /// The name [`FromStr`] accepts.
+    pub fn name(&self) -> &'static str {
+        match self {
+            OutputFormat::Png8 => "png8",
+            OutputFormat::Png16 => "png16",
+            OutputFormat::ExrHalf => "exr-half",
+            OutputFormat::ExrFloat => "exr-float",
+        }
+    }
+}
+
+impl fmt::Display for OutputFormat {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for OutputFormat {
+    type Err = String;
+
+    /// Parses `png8`, `png16`, `exr-half` or `exr-float` (case-insensitive).
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.to_ascii_lowercase().as_str() {
+            "png8" => Ok(OutputFormat::Png8),
+            "png16" => Ok(OutputFormat::Png16),
+            "exr-half" => Ok(OutputFormat::ExrHalf),
+            "exr-float" => Ok(OutputFormat::ExrFloat),
+            _ => Err(format!("unknown output format `{s}`; expected png8, png16, exr-half or exr-float")),
+        }
+    }
 }
 
 /// The sRGB transfer function of a linear value in [0, 1] (values outside are clamped).
@@ -58,6 +188,11 @@ pub fn write_png(film: &Film, path: &Path) -> Result<(), OutputError> {
 /// Writes `bytes` to `path` atomically: they go to a temporary file in the same folder, are
 /// synced, and the file is renamed into place, so readers see the old file or the whole new one.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
+    persist(path, stage(path, bytes)?)
+}
+
+/// Writes `bytes` to a synced temporary file in `path`'s folder (removed again if dropped).
+fn stage(path: &Path, bytes: &[u8]) -> Result<tempfile::NamedTempFile, OutputError> {
     let io = |source| OutputError::Io { path: path.to_path_buf(), source };
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
@@ -71,9 +206,171 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
     let mut tmp = builder.tempfile_in(dir).map_err(io)?;
     tmp.as_file_mut().write_all(bytes).map_err(io)?;
     tmp.as_file().sync_all().map_err(io)?;
-    // On error the temporary file is removed when `tmp` drops.
-    tmp.persist(path).map_err(|e| io(e.error))?;
+    Ok(tmp)
+}
+
+/// Renames a staged temporary file to `path` (on error it is removed when dropped).
+fn persist(path: &Path, tmp: tempfile::NamedTempFile) -> Result<(), OutputError> {
+    tmp.persist(path).map_err(|e| OutputError::Io { path: path.to_path_buf(), source: e.error })?;
     Ok(())
+}
+
+/// Writes the film in `format`, with its AOVs and metadata, and returns every file written
+/// (the main image first).
+///
+/// - PNG: the film is tone-mapped with `tone` and sRGB-encoded; each metadata entry becomes a
+///   `tEXt` chunk (`iTXt` if not Latin-1). Each AOV present goes to `{stem}.{aov}.png` beside
+///   `path` as an 8-bit viewable rendering with its scale in extra entries (see `aov_png`).
+/// - EXR: linear values, `tone` is ignored; AOVs become parts of the same file and metadata
+///   entries string attributes (see `exr_io`).
+///
+/// All files are encoded first, then staged as synced temporary files, then renamed into place,
+/// so an encoding or write error leaves no new file behind.
+///
+/// # Examples
+/// ```
+/// # use penumbra::film::{write_image, Film, Metadata, OutputFormat, ToneMapping};
+/// # let dir = tempfile::tempdir()?;
+/// let path = dir.path().join("frame.exr");
+/// let written = write_image(&Film::new(4, 4), None, &path, OutputFormat::ExrFloat,
+///     &ToneMapping::default(), &Metadata::default())?;
+/// assert_eq!(written, vec![path]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn write_image(
+    film: &Film,
+    aovs: Option<&Aovs>,
+    path: &Path,
+    format: OutputFormat,
+    tone: &ToneMapping,
+    meta: &Metadata,
+) -> Result<Vec<PathBuf>, OutputError> {
+    let meta_error = |(key, reason)| OutputError::Metadata { path: path.to_path_buf(), key, reason };
+    meta.validate().map_err(meta_error)?;
+    if let Some(aovs) = aovs {
+        check_aov_sizes(film, aovs, path)?;
+    }
+    let files = if format.is_exr() {
+        encode_exr_file(film, aovs, path, format, meta)?
+    } else {
+        encode_png_files(film, aovs, path, format, tone, meta)?
+    };
+    let staged = files.iter().map(|(p, bytes)| stage(p, bytes)).collect::<Result<Vec<_>, _>>()?;
+    for ((p, _), tmp) in files.iter().zip(staged) {
+        persist(p, tmp)?;
+    }
+    Ok(files.into_iter().map(|(p, _)| p).collect())
+}
+
+/// Encodes the EXR file in memory.
+fn encode_exr_file(
+    film: &Film,
+    aovs: Option<&Aovs>,
+    path: &Path,
+    format: OutputFormat,
+    meta: &Metadata,
+) -> Result<Vec<(PathBuf, Vec<u8>)>, OutputError> {
+    if let Some(key) = reserved_key(meta) {
+        let reason = "the name is reserved by OpenEXR";
+        return Err(OutputError::Metadata { path: path.to_path_buf(), key: key.to_owned(), reason });
+    }
+    let mut meta = meta.clone();
+    if let Some(aovs) = aovs.filter(|a| a.object.is_some()) {
+        meta.set(LEGEND_KEY, super::exr_io::legend(&aovs.object_names));
+    }
+    let bytes = encode_exr(film, aovs, format == OutputFormat::ExrHalf, &meta)
+        .map_err(|source| OutputError::Exr { path: path.to_path_buf(), source })?;
+    Ok(vec![(path.to_path_buf(), bytes)])
+}
+
+/// Encodes the main PNG and one PNG per AOV in memory.
+fn encode_png_files(
+    film: &Film,
+    aovs: Option<&Aovs>,
+    path: &Path,
+    format: OutputFormat,
+    tone: &ToneMapping,
+    meta: &Metadata,
+) -> Result<Vec<(PathBuf, Vec<u8>)>, OutputError> {
+    let png_error = |p: &Path| {
+        let p = p.to_path_buf();
+        move |source| OutputError::Png { path: p, source }
+    };
+    let samples = film_samples(film, tone, format == OutputFormat::Png16);
+    let main = encode_png(film.width, film.height, &samples, meta).map_err(png_error(path))?;
+    let mut files = vec![(path.to_path_buf(), main)];
+    for image in aovs.map(aov_images).unwrap_or_default() {
+        let aov_path = aov_png_path(path, image.name);
+        let bytes =
+            encode_png(film.width, film.height, &Samples::Eight(image.rgb), &meta.merged(&image.extra))
+                .map_err(png_error(&aov_path))?;
+        files.push((aov_path, bytes));
+    }
+    Ok(files)
+}
+
+/// `{folder}/{stem}.{aov}.png` for the image at `path`.
+fn aov_png_path(path: &Path, aov: &str) -> PathBuf {
+    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    path.with_file_name(format!("{stem}.{aov}.png"))
+}
+
+/// Checks every AOV buffer present has one value per film pixel.
+fn check_aov_sizes(film: &Film, aovs: &Aovs, path: &Path) -> Result<(), OutputError> {
+    let n = film.pixels.len();
+    let lens = [
+        ("depth", aovs.depth.as_ref().map(Vec::len)),
+        ("normal", aovs.normal.as_ref().map(Vec::len)),
+        ("albedo", aovs.albedo.as_ref().map(Vec::len)),
+        ("object", aovs.object.as_ref().map(Vec::len)),
+        ("cost", aovs.cost.as_ref().map(Vec::len)),
+    ];
+    let bad = if (aovs.width, aovs.height) != (film.width, film.height) {
+        Some(format!("AOVs are {}×{}", aovs.width, aovs.height))
+    } else {
+        lens.iter()
+            .find(|(_, len)| len.is_some_and(|l| l != n))
+            .map(|(name, len)| format!("{name} has {} values, not {n}", len.unwrap_or(0)))
+    };
+    match bad {
+        Some(message) => Err(OutputError::AovSize {
+            path: path.to_path_buf(),
+            width: film.width,
+            height: film.height,
+            message,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// PNG files start with these bytes.
+const PNG_MAGIC: [u8; 8] = [0x89, b'P', b'N', b'G', b'\r', b'\n', 0x1A, b'\n'];
+/// EXR files start with these bytes.
+const EXR_MAGIC: [u8; 4] = [0x76, 0x2F, 0x31, 0x01];
+
+/// Reads the metadata of a PNG (text chunks: `tEXt`, then `zTXt`, then `iTXt`) or an EXR file
+/// (string attributes, sorted by key), recognised by its first bytes.
+pub fn read_metadata(path: &Path) -> Result<Metadata, OutputError> {
+    let read_error = |message: String| OutputError::Read { path: path.to_path_buf(), message };
+    let mut magic = [0u8; 8];
+    let mut file = std::fs::File::open(path).map_err(|e| read_error(e.to_string()))?;
+    let got = file.read(&mut magic).map_err(|e| read_error(e.to_string()))?;
+    drop(file);
+    if got == 8 && magic == PNG_MAGIC {
+        read_png_metadata(path).map_err(read_error)
+    } else if got >= 4 && magic[..4] == EXR_MAGIC {
+        read_exr_metadata(path).map_err(|source| OutputError::Exr { path: path.to_path_buf(), source })
+    } else {
+        Err(read_error("neither a PNG nor an EXR file".into()))
+    }
+}
+
+/// Reads an EXR file written by [`write_image`] (or any EXR with `R`, `G`, `B` channels) back
+/// into a film and the AOV layers it holds.
+pub fn read_exr(path: &Path) -> Result<(Film, Aovs), OutputError> {
+    decode_exr(path)
+        .map_err(|source| OutputError::Exr { path: path.to_path_buf(), source })?
+        .map_err(|message| OutputError::Read { path: path.to_path_buf(), message })
 }
 
 #[cfg(test)]
