@@ -244,6 +244,139 @@ pub(crate) fn parse_legend(legend: &str) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::film::fixtures::{random_aovs, random_film};
+    use crate::film::output::{read_exr, read_metadata, write_image, OutputFormat};
+    use crate::film::tonemap::ToneMapping;
+
+    /// Writes `film` (and `aovs`) as EXR into a fresh folder and reads it back.
+    fn round_trip(
+        film: &Film,
+        aovs: Option<&Aovs>,
+        format: OutputFormat,
+        meta: &Metadata,
+    ) -> (Film, Aovs, Metadata) {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("frame.exr");
+        let written = write_image(film, aovs, &path, format, &ToneMapping::default(), meta).unwrap();
+        assert_eq!(written, vec![path.clone()], "AOVs live inside the EXR");
+        let (film, aovs) = read_exr(&path).unwrap();
+        (film, aovs, read_metadata(&path).unwrap())
+    }
+
+    fn bits(film: &Film) -> Vec<[u32; 3]> {
+        film.pixels.iter().map(|c| c.to_array().map(f32::to_bits)).collect()
+    }
+
+    #[test]
+    fn float_exr_round_trips_bit_for_bit() {
+        let film = random_film(37, 23, 7);
+        assert!(film.pixels.iter().any(|c| c.x == 0.0) && film.pixels.iter().any(|c| c.x > 1.0));
+        let (back, aovs, _) = round_trip(&film, None, OutputFormat::ExrFloat, &Metadata::default());
+        assert_eq!((back.width, back.height), (37, 23));
+        assert_eq!(bits(&back), bits(&film));
+        assert_eq!(aovs, Aovs { width: 37, height: 23, ..Default::default() });
+    }
+
+    #[test]
+    fn half_exr_is_within_half_precision() {
+        let film = random_film(16, 9, 3);
+        let (back, _, _) = round_trip(&film, None, OutputFormat::ExrHalf, &Metadata::default());
+        for (a, b) in film.pixels.iter().zip(&back.pixels) {
+            for i in 0..3 {
+                assert!((a[i] - b[i]).abs() <= 1e-3 * a[i].abs() + 1e-7, "{} vs {}", a[i], b[i]);
+            }
+        }
+    }
+
+    #[test]
+    fn aov_layers_round_trip_in_both_precisions() {
+        let film = random_film(12, 10, 11);
+        let aovs = random_aovs(12, 10, 5);
+        assert!(aovs.depth.as_ref().unwrap().contains(&f32::INFINITY));
+        let (_, back, meta) = round_trip(&film, Some(&aovs), OutputFormat::ExrFloat, &Metadata::default());
+        assert_eq!(back, aovs);
+        assert_eq!(meta.get(LEGEND_KEY), Some("1=floor,2=ball, red,3=Grüße 世界"));
+        let (_, half, _) = round_trip(&film, Some(&aovs), OutputFormat::ExrHalf, &Metadata::default());
+        // Depth stays 32-bit float and ids/costs integers even in half mode.
+        assert_eq!(half.depth, aovs.depth);
+        assert_eq!(half.object, aovs.object);
+        assert_eq!(half.cost, aovs.cost);
+        assert_eq!(half.object_names, aovs.object_names);
+        for (a, b) in aovs.normal.as_ref().unwrap().iter().zip(half.normal.as_ref().unwrap()) {
+            assert!((*a - *b).abs().max_element() <= 1e-3, "{a} vs {b}");
+        }
+        for (a, b) in aovs.albedo.as_ref().unwrap().iter().zip(half.albedo.as_ref().unwrap()) {
+            assert!((*a - *b).abs().max_element() <= 1e-3, "{a} vs {b}");
+        }
+    }
+
+    #[test]
+    fn half_files_have_the_documented_parts_channels_and_types() {
+        use exr::meta::attribute::SampleType;
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("layout.exr");
+        let aovs = random_aovs(4, 3, 1);
+        let tone = ToneMapping::default();
+        write_image(
+            &random_film(4, 3, 1),
+            Some(&aovs),
+            &path,
+            OutputFormat::ExrHalf,
+            &tone,
+            &Metadata::default(),
+        )
+        .unwrap();
+        let meta = exr::meta::MetaData::read_from_file(&path, true).unwrap();
+        let parts: Vec<(String, Vec<(String, SampleType)>)> = meta
+            .headers
+            .iter()
+            .map(|h| {
+                let name = h.own_attributes.layer_name.as_ref().map(untext).unwrap_or_default();
+                (name, h.channels.list.iter().map(|c| (untext(&c.name), c.sample_type)).collect())
+            })
+            .collect();
+        let f16 = SampleType::F16;
+        let expect = |name: &str, chans: &[(&str, SampleType)]| {
+            (name.to_owned(), chans.iter().map(|(c, t)| ((*c).to_owned(), *t)).collect::<Vec<_>>())
+        };
+        assert_eq!(
+            parts,
+            vec![
+                expect("beauty", &[("B", f16), ("G", f16), ("R", f16)]),
+                expect("depth", &[("depth.Z", SampleType::F32)]),
+                expect("normal", &[("normal.X", f16), ("normal.Y", f16), ("normal.Z", f16)]),
+                expect("albedo", &[("albedo.B", f16), ("albedo.G", f16), ("albedo.R", f16)]),
+                expect("object", &[("object.id", SampleType::U32)]),
+                expect("cost", &[("cost.count", SampleType::U32)]),
+            ]
+        );
+    }
+
+    #[test]
+    fn metadata_round_trips_through_exr() {
+        let mut meta = Metadata::default();
+        meta.set("penumbra.seed", "42");
+        meta.set("penumbra.scene", "spheres.ron");
+        meta.set("Comment", "Grüße, 世界 🌍");
+        for format in [OutputFormat::ExrHalf, OutputFormat::ExrFloat] {
+            let (_, _, back) = round_trip(&Film::new(2, 2), None, format, &meta);
+            let mut expect = meta.entries.clone();
+            expect.sort();
+            assert_eq!(back.entries, expect, "{format}");
+        }
+    }
+
+    #[test]
+    fn reserved_exr_attribute_names_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("x.exr");
+        let meta = Metadata { entries: vec![("channels".into(), "RGB".into())] };
+        let err =
+            write_image(&Film::new(1, 1), None, &path, OutputFormat::ExrHalf, &ToneMapping::default(), &meta)
+                .unwrap_err();
+        assert!(err.to_string().contains("channels") && err.to_string().contains("x.exr"), "{err}");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+    }
 
     #[test]
     fn legends_round_trip_including_commas_in_names() {
