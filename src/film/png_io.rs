@@ -92,8 +92,106 @@ pub(crate) fn read_png_metadata(path: &Path) -> Result<Metadata, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::film::fixtures::{random_aovs, random_film};
+    use crate::film::output::{read_metadata, write_image, OutputFormat};
     use crate::film::ToneOperator;
     use crate::math::Vec3;
+
+    fn sample_meta() -> Metadata {
+        let mut meta = Metadata::default();
+        meta.set("Software", "penumbra 0.1");
+        meta.set("penumbra.seed", "42");
+        meta.set("Comment", "café crème");
+        meta.set("penumbra.note", "Grüße, 世界 🌍");
+        meta
+    }
+
+    #[test]
+    fn metadata_round_trips_through_png8_and_png16() {
+        let dir = tempfile::tempdir().unwrap();
+        let meta = sample_meta();
+        for format in [OutputFormat::Png8, OutputFormat::Png16] {
+            let path = dir.path().join(format!("{format}.png"));
+            write_image(&random_film(5, 4, 2), None, &path, format, &ToneMapping::default(), &meta).unwrap();
+            // Latin-1 entries come back first (tEXt), then the others (iTXt); here that is the
+            // insertion order.
+            assert_eq!(read_metadata(&path).unwrap(), meta, "{format}");
+        }
+    }
+
+    #[test]
+    fn png16_decodes_to_the_expected_16_bit_values() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("deep.png");
+        let film = random_film(7, 5, 9);
+        let tone = ToneMapping { operator: ToneOperator::Reinhard, exposure: -2.0, white: 6.0 };
+        write_image(&film, None, &path, OutputFormat::Png16, &tone, &Metadata::default()).unwrap();
+        let decoded = image::open(&path).unwrap();
+        assert_eq!(decoded.color(), image::ColorType::Rgb16);
+        let decoded = decoded.to_rgb16();
+        for (i, c) in film.pixels.iter().enumerate() {
+            let expect = tone_map(*c, &tone).to_array().map(|v| (linear_to_srgb(v) * 65535.0 + 0.5) as u16);
+            let (x, y) = (i as u32 % film.width, i as u32 / film.width);
+            assert_eq!(decoded.get_pixel(x, y).0, expect, "pixel ({x}, {y})");
+        }
+    }
+
+    #[test]
+    fn png8_matches_the_tone_mapped_srgb_bytes() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("eight.png");
+        let film = random_film(6, 3, 4);
+        let tone = ToneMapping { operator: ToneOperator::Aces, exposure: 1.0, white: 4.0 };
+        write_image(&film, None, &path, OutputFormat::Png8, &tone, &Metadata::default()).unwrap();
+        let Samples::Eight(expect) = film_samples(&film, &tone, false) else { panic!("expected 8 bits") };
+        assert_eq!(image::open(&path).unwrap().to_rgb8().into_raw(), expect);
+    }
+
+    #[test]
+    fn aovs_go_to_separate_pngs_with_their_scales() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("frame.png");
+        let aovs = random_aovs(8, 6, 3);
+        let meta = sample_meta();
+        let written = write_image(
+            &random_film(8, 6, 1),
+            Some(&aovs),
+            &path,
+            OutputFormat::Png16,
+            &ToneMapping::default(),
+            &meta,
+        )
+        .unwrap();
+        let names: Vec<_> =
+            written.iter().map(|p| p.file_name().unwrap().to_string_lossy().into_owned()).collect();
+        let expect = [
+            "frame.png",
+            "frame.depth.png",
+            "frame.normal.png",
+            "frame.albedo.png",
+            "frame.object.png",
+            "frame.cost.png",
+        ];
+        assert_eq!(names, expect);
+        for p in &written[1..] {
+            let img = image::open(p).unwrap();
+            assert_eq!((img.color(), img.width(), img.height()), (image::ColorType::Rgb8, 8, 6), "{p:?}");
+            let got = read_metadata(p).unwrap();
+            assert_eq!(got.get("penumbra.note"), Some("Grüße, 世界 🌍"), "{p:?}");
+        }
+        let depth_max =
+            aovs.depth.as_ref().unwrap().iter().copied().filter(|d| d.is_finite()).fold(0.0, f32::max);
+        let depth_meta = read_metadata(&written[1]).unwrap();
+        assert_eq!(depth_meta.get("penumbra.aov.depth.max"), Some(depth_max.to_string().as_str()));
+        assert_eq!(depth_meta.get("penumbra.aov"), Some("depth"));
+        // Background pixel 0 has depth +∞ and is drawn black; object id 0 likewise.
+        assert_eq!(image::open(&written[1]).unwrap().to_rgb8().get_pixel(0, 0).0, [0, 0, 0]);
+        assert_eq!(image::open(&written[4]).unwrap().to_rgb8().get_pixel(0, 0).0, [0, 0, 0]);
+        let legend = read_metadata(&written[4]).unwrap();
+        assert_eq!(legend.get("penumbra.aov.object.legend"), Some("1=floor,2=ball, red,3=Grüße 世界"));
+        let cost_max = aovs.cost.as_ref().unwrap().iter().max().unwrap().to_string();
+        assert_eq!(read_metadata(&written[5]).unwrap().get("penumbra.aov.cost.max"), Some(cost_max.as_str()));
+    }
 
     #[test]
     fn sixteen_bit_samples_follow_the_formula() {
