@@ -376,6 +376,8 @@ pub fn read_exr(path: &Path) -> Result<(Film, Aovs), OutputError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::film::fixtures::{random_aovs, random_film};
+    use crate::film::ToneOperator;
 
     #[test]
     fn srgb_curve_hits_known_points() {
@@ -402,6 +404,129 @@ mod tests {
         assert_eq!(img.get_pixel(0, 0).0, [0, 0, 0]);
         let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
         assert_eq!(names, vec![std::ffi::OsString::from("out.png")]);
+    }
+
+    /// File names in `dir`, sorted.
+    fn listing(dir: &Path) -> Vec<String> {
+        let mut names: Vec<_> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn formats_parse_from_names_and_paths() {
+        for f in [OutputFormat::Png8, OutputFormat::Png16, OutputFormat::ExrHalf, OutputFormat::ExrFloat] {
+            assert_eq!(f.to_string().parse::<OutputFormat>(), Ok(f));
+        }
+        assert_eq!("EXR-Float".parse(), Ok(OutputFormat::ExrFloat));
+        let err = "tiff".parse::<OutputFormat>().unwrap_err();
+        assert!(["tiff", "png8", "png16", "exr-half", "exr-float"].iter().all(|o| err.contains(o)), "{err}");
+        assert_eq!(OutputFormat::from_path(Path::new("a/b.PNG")), Some(OutputFormat::Png8));
+        assert_eq!(OutputFormat::from_path(Path::new("b.exr")), Some(OutputFormat::ExrHalf));
+        assert_eq!(OutputFormat::from_path(Path::new("b")), None);
+        assert!(OutputFormat::ExrFloat.is_exr() && !OutputFormat::Png16.is_exr());
+    }
+
+    #[test]
+    fn tone_mapping_never_touches_exr_values() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("linear.exr");
+        let film = random_film(9, 8, 21);
+        let tone = ToneMapping { operator: ToneOperator::Aces, exposure: 3.0, white: 2.0 };
+        write_image(&film, None, &path, OutputFormat::ExrFloat, &tone, &Metadata::default()).unwrap();
+        assert_eq!(read_exr(&path).unwrap().0, film);
+    }
+
+    #[test]
+    fn writes_leave_no_temporary_files() {
+        let dir = tempfile::tempdir().unwrap();
+        let (film, aovs) = (random_film(6, 4, 1), random_aovs(6, 4, 2));
+        let tone = ToneMapping::default();
+        for (name, format) in [("a.png", OutputFormat::Png8), ("b.png", OutputFormat::Png16)] {
+            write_image(&film, Some(&aovs), &dir.path().join(name), format, &tone, &Metadata::default())
+                .unwrap();
+        }
+        for (name, format) in [("c.exr", OutputFormat::ExrHalf), ("d.exr", OutputFormat::ExrFloat)] {
+            write_image(&film, Some(&aovs), &dir.path().join(name), format, &tone, &Metadata::default())
+                .unwrap();
+        }
+        // Overwriting replaces the file in place.
+        write_image(
+            &film,
+            None,
+            &dir.path().join("d.exr"),
+            OutputFormat::ExrFloat,
+            &tone,
+            &Metadata::default(),
+        )
+        .unwrap();
+        let aov_names = ["albedo", "cost", "depth", "normal", "object"];
+        let mut expect: Vec<String> = ["a", "b"]
+            .iter()
+            .flat_map(|s| aov_names.iter().map(move |a| format!("{s}.{a}.png")).chain([format!("{s}.png")]))
+            .chain(["c.exr".into(), "d.exr".into()])
+            .collect();
+        expect.sort();
+        assert_eq!(listing(dir.path()), expect);
+        assert!(read_exr(&dir.path().join("d.exr")).unwrap().1.depth.is_none());
+    }
+
+    #[test]
+    fn write_image_into_a_missing_folder_names_the_path_and_leaves_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let (film, aovs) = (random_film(2, 2, 1), random_aovs(2, 2, 1));
+        for (name, format) in [("o.png", OutputFormat::Png16), ("o.exr", OutputFormat::ExrHalf)] {
+            let path = dir.path().join("missing").join(name);
+            let err =
+                write_image(&film, Some(&aovs), &path, format, &ToneMapping::default(), &Metadata::default())
+                    .unwrap_err();
+            assert!(err.to_string().contains(&path.display().to_string()), "{err}");
+            assert!(listing(dir.path()).is_empty());
+        }
+    }
+
+    #[test]
+    fn bad_metadata_and_mismatched_aovs_fail_before_writing() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("x.png");
+        let tone = ToneMapping::default();
+        let film = random_film(3, 3, 1);
+        let meta = Metadata { entries: vec![("世界".into(), "v".into())] };
+        let err = write_image(&film, None, &path, OutputFormat::Png8, &tone, &meta).unwrap_err();
+        assert!(matches!(err, OutputError::Metadata { .. }) && err.to_string().contains("x.png"), "{err}");
+        let err = write_image(
+            &film,
+            Some(&random_aovs(3, 2, 1)),
+            &path,
+            OutputFormat::Png8,
+            &tone,
+            &Metadata::default(),
+        )
+        .unwrap_err();
+        assert!(err.to_string().contains("3×2"), "{err}");
+        let mut aovs = random_aovs(3, 3, 1);
+        aovs.cost.as_mut().unwrap().pop();
+        let err = write_image(&film, Some(&aovs), &path, OutputFormat::ExrHalf, &tone, &Metadata::default())
+            .unwrap_err();
+        assert!(err.to_string().contains("cost has 8 values"), "{err}");
+        assert!(listing(dir.path()).is_empty());
+    }
+
+    #[test]
+    fn reading_something_else_fails_with_the_path() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("notes.txt");
+        std::fs::write(&path, "hello").unwrap();
+        let err = read_metadata(&path).unwrap_err();
+        assert!(err.to_string().contains("notes.txt"), "{err}");
+        assert!(read_exr(&path).unwrap_err().to_string().contains("notes.txt"));
+        assert!(read_metadata(&dir.path().join("absent.png"))
+            .unwrap_err()
+            .to_string()
+            .contains("absent.png"));
     }
 
     #[test]
