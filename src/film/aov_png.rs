@@ -31,11 +31,11 @@ pub(crate) struct AovImage {
 /// The Turbo colour ramp at `t` (clamped to [0, 1]), as display (sRGB-encoded) RGB in [0, 1].
 pub(crate) fn turbo(t: f32) -> [f32; 3] {
     // Degree-5 polynomial coefficients per channel, constant term first (Google, 2019).
-    const R: [f32; 6] = [0.135_721_38, 4.615_392_6, -42.660_322, 132.131_08, -152.942_4, 59.286_38];
-    const G: [f32; 6] = [0.091_402_61, 2.194_188_4, 4.842_966_6, -14.185_033, 4.277_298_6, 2.829_566];
-    const B: [f32; 6] = [0.106_673_3, 12.641_946, -60.582_047, 110.362_77, -89.903_11, 27.348_25];
-    let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
-    [R, G, B].map(|c| c.iter().rev().fold(0.0, |acc, &k| acc * t + k).clamp(0.0, 1.0))
+    const R: [f64; 6] = [0.13572138, 4.61539260, -42.66032258, 132.13108234, -152.94239396, 59.28637943];
+    const G: [f64; 6] = [0.09140261, 2.19418839, 4.84296658, -14.18503333, 4.27729857, 2.82956604];
+    const B: [f64; 6] = [0.10667330, 12.64194608, -60.58204836, 110.36276771, -89.90310912, 27.34824973];
+    let t = if t.is_nan() { 0.0 } else { f64::from(t.clamp(0.0, 1.0)) };
+    [R, G, B].map(|c| c.iter().rev().fold(0.0, |acc, &k| acc * t + k).clamp(0.0, 1.0) as f32)
 }
 
 /// A display colour in [0, 1] to 8 bits.

@@ -3,6 +3,7 @@
 pub mod aov;
 mod aov_png;
 mod exr_io;
+mod format;
 pub mod metadata;
 pub mod metrics;
 pub mod output;

@@ -53,8 +53,8 @@ pub fn tone_map(c: Vec3, tm: &ToneMapping) -> Vec3 {
 /// The operator's curve on one exposed channel value.
 #[inline]
 fn map_channel(x: f32, tm: &ToneMapping) -> f32 {
-    // `!(x > 0)` also catches NaN; +∞ after exposure is not a usable value either.
-    if !(x > 0.0) || !x.is_finite() {
+    // NaN and ±∞ (also after exposure) are not usable values.
+    if !x.is_finite() || x <= 0.0 {
         return 0.0;
     }
     let y = match tm.operator {
