@@ -12,7 +12,7 @@ pub enum OutputFormat {
     Png8,
     /// 16-bit sRGB PNG, tone-mapped.
     Png16,
-    /// OpenEXR with 16-bit float colour, linear.
+    /// OpenEXR with 16-bit float colour, linear (magnitudes above 65504 become ∞).
     ExrHalf,
     /// OpenEXR with 32-bit float colour, linear.
     ExrFloat,
