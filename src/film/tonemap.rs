@@ -4,6 +4,8 @@
 
 use serde::Deserialize;
 
+use crate::math::Vec3;
+
 /// The curve that maps exposed linear values into [0, 1].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Deserialize)]
 pub enum ToneOperator {
@@ -30,5 +32,117 @@ pub struct ToneMapping {
 impl Default for ToneMapping {
     fn default() -> Self {
         Self { operator: ToneOperator::Clamp, exposure: 0.0, white: 4.0 }
+    }
+}
+
+/// Tone-maps one linear colour: scales by `2^exposure`, then applies the operator per channel;
+/// the result is in [0, 1]. Negative or non-finite inputs (NaN, ±∞) map to 0, never NaN.
+///
+/// # Examples
+/// ```
+/// # use penumbra::film::{tonemap::tone_map, ToneMapping, ToneOperator};
+/// # use penumbra::math::Vec3;
+/// let tm = ToneMapping { operator: ToneOperator::Reinhard, exposure: 0.0, white: 4.0 };
+/// assert_eq!(tone_map(Vec3::splat(4.0), &tm), Vec3::ONE);
+/// ```
+pub fn tone_map(c: Vec3, tm: &ToneMapping) -> Vec3 {
+    let scale = tm.exposure.exp2();
+    Vec3::from_array(c.to_array().map(|v| map_channel(v * scale, tm)))
+}
+
+/// The operator's curve on one exposed channel value.
+#[inline]
+fn map_channel(x: f32, tm: &ToneMapping) -> f32 {
+    // NaN and ±∞ (also after exposure) are not usable values.
+    if !x.is_finite() || x <= 0.0 {
+        return 0.0;
+    }
+    let y = match tm.operator {
+        ToneOperator::Clamp => x,
+        ToneOperator::Reinhard => {
+            let w = tm.white.max(f32::MIN_POSITIVE);
+            x * (1.0 + x / (w * w)) / (1.0 + x)
+        }
+        ToneOperator::Aces => (x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14),
+    };
+    // Reinhard's quotient can overflow to NaN for huge x; treat that as fully white.
+    if y.is_nan() {
+        1.0
+    } else {
+        y.clamp(0.0, 1.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tm(operator: ToneOperator, exposure: f32, white: f32) -> ToneMapping {
+        ToneMapping { operator, exposure, white }
+    }
+
+    fn ramp() -> impl Iterator<Item = f32> {
+        (0..1000).map(|i| i as f32 * 20.0 / 999.0)
+    }
+
+    #[test]
+    fn each_operator_matches_its_formula_on_a_ramp() {
+        let w = 4.0;
+        for x in ramp() {
+            let c = Vec3::splat(x);
+            let clamp = tone_map(c, &tm(ToneOperator::Clamp, 0.0, w)).x;
+            assert_eq!(clamp, x.min(1.0), "clamp at {x}");
+            let reinhard = tone_map(c, &tm(ToneOperator::Reinhard, 0.0, w)).x;
+            let expect = (x * (1.0 + x / (w * w)) / (1.0 + x)).clamp(0.0, 1.0);
+            assert!((reinhard - expect).abs() <= 1e-6, "reinhard at {x}: {reinhard} vs {expect}");
+            let aces = tone_map(c, &tm(ToneOperator::Aces, 0.0, w)).x;
+            let expect = ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0);
+            assert!((aces - expect).abs() <= 1e-6, "aces at {x}: {aces} vs {expect}");
+        }
+    }
+
+    #[test]
+    fn exposure_plus_one_doubles_linear_values() {
+        for i in 0..100 {
+            let x = i as f32 * 0.49 / 99.0;
+            let out = tone_map(Vec3::new(x, x * 0.5, x * 0.25), &tm(ToneOperator::Clamp, 1.0, 4.0));
+            assert_eq!(out, Vec3::new(2.0 * x, x, 0.5 * x));
+        }
+        let half = tone_map(Vec3::splat(0.25), &tm(ToneOperator::Clamp, -1.0, 4.0));
+        assert_eq!(half, Vec3::splat(0.125));
+    }
+
+    #[test]
+    fn reinhard_maps_the_white_point_to_one() {
+        for w in [0.5_f32, 1.0, 2.0, 4.0, 11.2, 100.0] {
+            let out = tone_map(Vec3::splat(w), &tm(ToneOperator::Reinhard, 0.0, w));
+            assert!((out.x - 1.0).abs() < 1e-6, "white {w} maps to {}", out.x);
+            let above = tone_map(Vec3::splat(w * 3.0), &tm(ToneOperator::Reinhard, 0.0, w));
+            assert_eq!(above.x, 1.0);
+        }
+    }
+
+    #[test]
+    fn operators_are_monotonic() {
+        for op in [ToneOperator::Clamp, ToneOperator::Reinhard, ToneOperator::Aces] {
+            let mut prev = 0.0;
+            for x in ramp() {
+                let y = tone_map(Vec3::splat(x), &tm(op, 0.0, 4.0)).x;
+                assert!(y >= prev, "{op:?} decreases at {x}: {prev} -> {y}");
+                assert!((0.0..=1.0).contains(&y));
+                prev = y;
+            }
+        }
+    }
+
+    #[test]
+    fn bad_inputs_map_to_zero_never_nan() {
+        for op in [ToneOperator::Clamp, ToneOperator::Reinhard, ToneOperator::Aces] {
+            let c = Vec3::new(f32::NAN, -1.0, f32::INFINITY);
+            assert_eq!(tone_map(c, &tm(op, 0.0, 4.0)), Vec3::ZERO, "{op:?}");
+            assert_eq!(tone_map(Vec3::splat(f32::NEG_INFINITY), &tm(op, 2.0, 4.0)), Vec3::ZERO);
+            let huge = tone_map(Vec3::splat(f32::MAX), &tm(op, 0.0, 4.0));
+            assert!(huge.is_finite() && huge.x <= 1.0, "{op:?}: {huge}");
+        }
     }
 }
