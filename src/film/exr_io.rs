@@ -70,11 +70,37 @@ fn vec3_channels(prefix: &str, names: [&str; 3], data: &[Vec3], half: bool) -> V
         .collect()
 }
 
+/// Name of the single attribute that carries all metadata entries, as a JSON list of
+/// `[key, value]` pairs. One attribute, not one per entry: the exr crate keeps attributes in a
+/// hash map and writes them in its iteration order, which would make the file's bytes differ
+/// from run to run.
+const BUNDLE_KEY: &str = "penumbra.metadata";
+
+/// The metadata entries among a header's attributes: the bundle, expanded in order, then any
+/// other string attribute (written by other tools), sorted by key.
+fn entries_of(attrs: &std::collections::HashMap<Text, AttributeValue>) -> Vec<(String, String)> {
+    let mut loose: Vec<(String, String)> = Vec::new();
+    let mut bundled: Vec<(String, String)> = Vec::new();
+    for (name, value) in attrs {
+        let AttributeValue::Text(v) = value else { continue };
+        let (key, value) = (untext(name), untext(v));
+        if key == BUNDLE_KEY {
+            bundled = serde_json::from_str(&value).unwrap_or_default();
+        } else {
+            loose.push((key, value));
+        }
+    }
+    loose.sort();
+    bundled.extend(loose);
+    bundled
+}
+
 /// A named part with the given channels (sorted, as the format requires).
 fn layer(name: &str, size: Vec2<usize>, channels: Vec<AnyChannel<FlatSamples>>, other: Metadata) -> AnyLayer {
     let mut attributes = LayerAttributes::named(text(name));
-    for (k, v) in other.entries {
-        attributes.other.insert(text(&k), AttributeValue::Text(text(&v)));
+    if !other.entries.is_empty() {
+        let bundle = serde_json::to_string(&other.entries).unwrap_or_default();
+        attributes.other.insert(text(BUNDLE_KEY), AttributeValue::Text(text(&bundle)));
     }
     Layer::new(size, attributes, Encoding::SMALL_LOSSLESS, AnyChannels::sort(SmallVec::from_vec(channels)))
 }
@@ -118,22 +144,20 @@ pub(crate) fn encode_exr(
     Ok(bytes.into_inner())
 }
 
-/// The metadata entries of an EXR file: every string attribute outside the reserved names, from
-/// all parts (the first part wins on duplicates), sorted by key.
+/// The metadata entries of an EXR file, in the order they were written (then any foreign string
+/// attributes, sorted), from all parts (the first part wins on duplicates).
 pub(crate) fn read_exr_metadata(path: &Path) -> Result<Metadata, exr::error::Error> {
     let meta = exr::meta::MetaData::read_from_file(path, false)?;
     let mut out = Metadata::default();
     for header in &meta.headers {
         for attrs in [&header.own_attributes.other, &header.shared_attributes.other] {
-            for (name, value) in attrs {
-                let key = untext(name);
-                if let (AttributeValue::Text(v), None) = (value, out.get(&key)) {
-                    out.entries.push((key, untext(v)));
+            for (key, value) in entries_of(attrs) {
+                if out.get(&key).is_none() {
+                    out.entries.push((key, value));
                 }
             }
         }
     }
-    out.entries.sort();
     Ok(out)
 }
 
@@ -175,9 +199,9 @@ fn assemble(layers: &[AnyLayer]) -> Result<(Film, Aovs), Malformed> {
             }
             channels.push((qualified, &ch.sample_data));
         }
-        for (k, v) in &layer.attributes.other {
-            if let (true, AttributeValue::Text(t)) = (untext(k) == LEGEND_KEY, v) {
-                legend.get_or_insert_with(|| untext(t));
+        for (k, v) in entries_of(&layer.attributes.other) {
+            if k == LEGEND_KEY {
+                legend.get_or_insert(v);
             }
         }
     }
@@ -247,6 +271,23 @@ mod tests {
     use crate::film::fixtures::{random_aovs, random_film};
     use crate::film::output::{read_exr, read_metadata, write_image, OutputFormat};
     use crate::film::tonemap::ToneMapping;
+
+    #[test]
+    fn the_same_image_and_metadata_always_encode_to_the_same_bytes() {
+        // Regression: one attribute per entry came out in hash-map order, different each run.
+        let film = random_film(7, 5, 3);
+        let mut meta = Metadata::default();
+        for i in 0..12 {
+            meta.set(format!("penumbra.key{i}"), format!("value {i}"));
+        }
+        let first = encode_exr(&film, None, false, &meta).unwrap();
+        for _ in 0..8 {
+            assert!(
+                encode_exr(&film, None, false, &meta).unwrap() == first,
+                "EXR bytes differ between encodes"
+            );
+        }
+    }
 
     /// Writes `film` (and `aovs`) as EXR into a fresh folder and reads it back.
     fn round_trip(
@@ -360,9 +401,7 @@ mod tests {
         meta.set("Comment", "Grüße, 世界 🌍");
         for format in [OutputFormat::ExrHalf, OutputFormat::ExrFloat] {
             let (_, _, back) = round_trip(&Film::new(2, 2), None, format, &meta);
-            let mut expect = meta.entries.clone();
-            expect.sort();
-            assert_eq!(back.entries, expect, "{format}");
+            assert_eq!(back.entries, meta.entries, "{format}: entries come back in written order");
         }
     }
 

@@ -22,5 +22,5 @@ pub mod validate;
 
 pub use error::SceneError;
 pub use format::*;
-pub use load::{default_scene, load_scene, parse_scene};
+pub use load::{default_scene, load_scene, parse_scene, DEFAULT_SCENE_ORIGIN, DEFAULT_SCENE_SOURCE};
 pub use spawn::spawn_world;

@@ -1,0 +1,108 @@
+//! What an image says about how it was made: the metadata written into every output, and the
+//! command-line arguments that reproduce it.
+
+use sha2::{Digest, Sha256};
+
+use penumbra::film::{Metadata, ToneMapping};
+use penumbra::trace::RenderSettings;
+
+/// Metadata keys.
+pub const VERSION: &str = "penumbra.version";
+/// The scene file as given on the command line (or the built-in scene's name).
+pub const SCENE: &str = "penumbra.scene";
+/// SHA-256 of the scene file's bytes, hex.
+pub const SCENE_HASH: &str = "penumbra.scene.sha256";
+/// SHA-256 of the script's bytes, or `none`.
+pub const SCRIPT_HASH: &str = "penumbra.script.sha256";
+/// Render arguments that reproduce the image, as a JSON array of strings.
+pub const ARGS: &str = "penumbra.args";
+
+/// Hex SHA-256 of `bytes`.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// The metadata of a render: program version, scene and its hash, frame, seed, settings,
+/// tone mapping and the replay arguments. Nothing time- or host-dependent, so re-rendering
+/// gives the same bytes.
+pub fn describe(
+    origin: &str,
+    scene_source: &[u8],
+    settings: &RenderSettings,
+    tone: &ToneMapping,
+    replay: &[String],
+) -> Metadata {
+    let mut m = Metadata::default();
+    m.set(VERSION, env!("CARGO_PKG_VERSION"));
+    m.set(SCENE, origin);
+    m.set(SCENE_HASH, &sha256_hex(scene_source));
+    m.set(SCRIPT_HASH, "none");
+    m.set("penumbra.frame", &settings.frame.to_string());
+    m.set("penumbra.seed", &settings.seed.to_string());
+    m.set("penumbra.settings", &format!("{settings:?}"));
+    m.set("penumbra.tonemap", &format!("{tone:?}"));
+    m.set(ARGS, &serde_json::Value::from(replay.to_vec()).to_string());
+    m
+}
+
+/// The render arguments of a command line that determine the image: everything after the
+/// program name and `render`, without the output path, the statistics file and the thread
+/// count (which never change the pixels).
+pub fn replay_tokens(argv: &[String]) -> Vec<String> {
+    let mut tokens = argv.iter().skip(1).peekable();
+    if tokens.peek().is_some_and(|t| t.as_str() == "render") {
+        tokens.next();
+    }
+    let mut kept = Vec::new();
+    while let Some(t) = tokens.next() {
+        let with_value = ["-o", "--output", "--stats", "--threads"];
+        if with_value.contains(&t.as_str()) {
+            tokens.next();
+        } else if with_value.iter().any(|f| t.starts_with(&format!("{f}=")))
+            || (t.starts_with("-o") && !t.starts_with("--"))
+        {
+            // `--output=x`, `--stats=x`, `--threads=x`, `-ox`: the value is attached.
+        } else {
+            kept.push(t.clone());
+        }
+    }
+    kept
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn strings(s: &[&str]) -> Vec<String> {
+        s.iter().map(|t| t.to_string()).collect()
+    }
+
+    #[test]
+    fn replay_drops_outputs_and_threads_only() {
+        let argv = strings(&[
+            "penumbra",
+            "render",
+            "s.ron",
+            "-o",
+            "x.png",
+            "--width",
+            "64",
+            "--threads=2",
+            "--stats",
+            "s.json",
+            "--aov",
+            "depth",
+        ]);
+        assert_eq!(replay_tokens(&argv), strings(&["s.ron", "--width", "64", "--aov", "depth"]));
+        assert_eq!(replay_tokens(&strings(&["penumbra"])), Vec::<String>::new());
+        assert_eq!(
+            replay_tokens(&strings(&["penumbra", "render", "-ox.png", "--output=y.exr"])),
+            Vec::<String>::new()
+        );
+    }
+
+    #[test]
+    fn sha256_matches_a_known_vector() {
+        assert_eq!(sha256_hex(b"abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+    }
+}

@@ -1,0 +1,26 @@
+//! The command line (clap): `render` (the default) and `info`. Only the binary uses this
+//! module; everything it calls is the library's public API.
+
+pub mod info;
+pub mod meta;
+pub mod render;
+
+use clap::{Parser, Subcommand};
+
+/// Penumbra: a data-oriented CPU ray tracer.
+#[derive(Parser, Debug)]
+#[command(version, about, long_about = None)]
+pub struct Cli {
+    /// What to do (default: render the built-in scene to penumbra.png).
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// The subcommands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Render one frame of a scene to an image (the default command).
+    Render(render::RenderArgs),
+    /// Print how an image was made; `--rerender` makes it again.
+    Info(info::InfoArgs),
+}

@@ -1,0 +1,311 @@
+//! `penumbra render`: one frame of a scene to an image (PNG or EXR), with AOVs, tone
+//! mapping, statistics and metadata that `penumbra info` can replay.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::Context;
+use clap::Args;
+
+use penumbra::film::{write_atomically, write_image, AovSet, OutputFormat, ToneMapping, ToneOperator};
+use penumbra::sample::Pattern;
+use penumbra::scene::{self, AdaptiveDesc, LightDesc, SceneDesc, DEFAULT_SCENE_ORIGIN, DEFAULT_SCENE_SOURCE};
+use penumbra::trace::{render_with_aovs, RenderStats};
+use penumbra::world::SceneWorld;
+
+use super::meta;
+
+#[derive(Args, Debug, Default)]
+pub struct RenderArgs {
+    /// Scene file (RON). Without one, the built-in default scene is rendered.
+    pub scene: Option<PathBuf>,
+    /// Output image: `.png` (8-bit sRGB, tone-mapped) or `.exr` (linear half float); see `--format`.
+    #[arg(short, long, default_value = "penumbra.png")]
+    pub output: PathBuf,
+    /// Image width in pixels (overrides the scene; alone, the height keeps the scene's aspect).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    width: Option<u32>,
+    /// Image height in pixels (overrides the scene; alone, the width keeps the scene's aspect).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    height: Option<u32>,
+    /// Worker threads (default: one per core).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    threads: Option<u32>,
+    /// Print detailed statistics and write them as JSON to this file.
+    #[arg(long, value_name = "STATS.json")]
+    stats: Option<PathBuf>,
+    /// Sample count of an effect, e.g. `--samples aa=16` (aa, lens, shadow, glossy; repeatable).
+    #[arg(long, value_name = "EFFECT=N", value_parser = parse_samples)]
+    samples: Vec<(Effect, u32)>,
+    /// Sample pattern of an effect, e.g. `--pattern lens=grid` (grid, random, jittered; repeatable).
+    #[arg(long, value_name = "EFFECT=PATTERN", value_parser = parse_pattern)]
+    pattern: Vec<(Effect, Pattern)>,
+    /// Adaptive supersampling with this corner threshold (`T`, or `T:DEPTH`, depth 1..=6, default 3).
+    #[arg(long, value_name = "T[:DEPTH]", value_parser = parse_adaptive, conflicts_with = "no_adaptive")]
+    adaptive: Option<(f32, u32)>,
+    /// Turn off adaptive supersampling set in the scene.
+    #[arg(long)]
+    no_adaptive: bool,
+    /// Lens radius (0 = pinhole).
+    #[arg(long, value_name = "R", value_parser = parse_aperture)]
+    aperture: Option<f32>,
+    /// Output encoding (default: from the extension): png8, png16, exr-half, exr-float.
+    #[arg(long, value_name = "FORMAT")]
+    format: Option<OutputFormat>,
+    /// AOVs to write beside the image (EXR: layers of the same file; PNG: `NAME.AOV.png`):
+    /// any of depth, normal, albedo, object, cost, comma-separated.
+    #[arg(long, value_name = "LIST", value_parser = AovSet::parse)]
+    aov: Option<AovSet>,
+    /// Tone-mapping operator of PNG output: clamp, reinhard or aces (overrides the scene).
+    #[arg(long, value_name = "OPERATOR", value_parser = parse_operator)]
+    tonemap: Option<ToneOperator>,
+    /// Exposure in stops applied before tone mapping, in [-30, 30] (overrides the scene).
+    #[arg(long, value_name = "STOPS", allow_negative_numbers = true, value_parser = parse_exposure)]
+    exposure: Option<f32>,
+    /// White point of the Reinhard operator, > 0 (overrides the scene).
+    #[arg(long, value_name = "W", value_parser = parse_white)]
+    white: Option<f32>,
+}
+
+/// An effect whose sampling the command line can set.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Effect {
+    Aa,
+    Lens,
+    Shadow,
+    Glossy,
+}
+
+fn split_effect(s: &str) -> Result<(Effect, &str), String> {
+    let (effect, value) = s.split_once('=').ok_or_else(|| format!("expected EFFECT=VALUE, got `{s}`"))?;
+    let effect = match effect {
+        "aa" => Effect::Aa,
+        "lens" => Effect::Lens,
+        "shadow" => Effect::Shadow,
+        "glossy" => Effect::Glossy,
+        other => return Err(format!("unknown effect `{other}`; expected aa, lens, shadow or glossy")),
+    };
+    Ok((effect, value))
+}
+
+fn parse_samples(s: &str) -> Result<(Effect, u32), String> {
+    let (effect, value) = split_effect(s)?;
+    match value.parse::<u32>() {
+        Ok(n) if (1..=4096).contains(&n) => Ok((effect, n)),
+        _ => Err(format!("sample count must be a whole number in 1..=4096, got `{value}`")),
+    }
+}
+
+fn parse_pattern(s: &str) -> Result<(Effect, Pattern), String> {
+    let (effect, value) = split_effect(s)?;
+    let pattern = match value {
+        "grid" => Pattern::Grid,
+        "random" => Pattern::Random,
+        "jittered" => Pattern::Jittered,
+        other => return Err(format!("unknown pattern `{other}`; expected grid, random or jittered")),
+    };
+    Ok((effect, pattern))
+}
+
+fn parse_adaptive(s: &str) -> Result<(f32, u32), String> {
+    let (threshold, depth) = s.split_once(':').unwrap_or((s, "3"));
+    let threshold = threshold.parse::<f32>().ok().filter(|t| t.is_finite() && *t >= 0.0);
+    let depth = depth.parse::<u32>().ok().filter(|d| (1..=6).contains(d));
+    match (threshold, depth) {
+        (Some(t), Some(d)) => Ok((t, d)),
+        _ => Err(format!(
+            "expected a threshold ≥ 0 and an optional depth in 1..=6 (`0.05` or `0.05:4`), got `{s}`"
+        )),
+    }
+}
+
+fn parse_aperture(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(r) if r.is_finite() && r >= 0.0 => Ok(r),
+        _ => Err(format!("aperture must be a finite number ≥ 0, got `{s}`")),
+    }
+}
+
+fn parse_operator(s: &str) -> Result<ToneOperator, String> {
+    match s {
+        "clamp" => Ok(ToneOperator::Clamp),
+        "reinhard" => Ok(ToneOperator::Reinhard),
+        "aces" => Ok(ToneOperator::Aces),
+        other => Err(format!("unknown tone operator `{other}`; expected clamp, reinhard or aces")),
+    }
+}
+
+fn parse_exposure(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(e) if e.is_finite() && e.abs() <= 30.0 => Ok(e),
+        _ => Err(format!("exposure must be a number of stops in [-30, 30], got `{s}`")),
+    }
+}
+
+fn parse_white(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(w) if w.is_finite() && w > 0.0 => Ok(w),
+        _ => Err(format!("white point must be a finite number > 0, got `{s}`")),
+    }
+}
+
+impl RenderArgs {
+    /// `penumbra` without arguments: the built-in scene to `penumbra.png`.
+    pub fn default_scene() -> Self {
+        Self { output: PathBuf::from("penumbra.png"), ..Default::default() }
+    }
+}
+
+/// Renders as `args` say; `replay` are the arguments that reproduce the image (stored in its
+/// metadata).
+pub fn run(args: &RenderArgs, replay: &[String]) -> anyhow::Result<()> {
+    let started = Instant::now();
+    let (mut desc, source): (SceneDesc, Vec<u8>) = match &args.scene {
+        Some(path) => {
+            let desc = scene::load_scene(path)?;
+            // Read again for the hash: `load_scene` validated exactly these bytes or failed.
+            let bytes =
+                std::fs::read(path).with_context(|| format!("{}: cannot read scene", path.display()))?;
+            (desc, bytes)
+        }
+        None => (scene::default_scene(), DEFAULT_SCENE_SOURCE.as_bytes().to_vec()),
+    };
+    apply_size(&mut desc, args.width, args.height);
+    apply_effects(&mut desc, args);
+    let format = match args.format {
+        Some(f) => f,
+        None => OutputFormat::from_path(&args.output).with_context(|| {
+            format!("{}: unknown output extension; use .png or .exr, or --format", args.output.display())
+        })?,
+    };
+    let tone = tone_mapping(&desc, args);
+    let load = started.elapsed().as_secs_f64();
+
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0) as usize)
+        .build()
+        .context("cannot start worker threads")?;
+    let wanted = args.aov.unwrap_or_default();
+    let (film, aovs, mut stats, settings) = pool.install(|| {
+        let started = Instant::now();
+        let mut world: SceneWorld = scene::spawn_world(&desc);
+        let spawn = started.elapsed().as_secs_f64();
+        let snapshot = world.update();
+        let settings = world.render_settings();
+        let clock = world.stage_clock();
+        let (film, aovs, mut stats) = render_with_aovs(&snapshot, &settings, wanted);
+        stats.times.world_update = spawn + clock.bounds;
+        stats.times.grid_build = clock.grid_build;
+        stats.times.snapshot = clock.snapshot;
+        (film, aovs, stats, settings)
+    });
+    stats.times.load = load;
+
+    let origin =
+        args.scene.as_ref().map_or_else(|| DEFAULT_SCENE_ORIGIN.to_string(), |p| p.display().to_string());
+    let metadata = meta::describe(&origin, &source, &settings, &tone, replay);
+    let started = Instant::now();
+    let written = write_image(&film, aovs.as_ref(), &args.output, format, &tone, &metadata)?;
+    stats.times.write = started.elapsed().as_secs_f64();
+    report(&stats, &written, aovs.as_ref().map(|a| a.object_names.as_slice()), args.stats.as_deref())
+}
+
+/// The scene's tone mapping with the command line's overrides.
+fn tone_mapping(desc: &SceneDesc, args: &RenderArgs) -> ToneMapping {
+    let t = &desc.settings.tonemap;
+    ToneMapping {
+        operator: args.tonemap.unwrap_or(t.operator),
+        exposure: args.exposure.unwrap_or(t.exposure),
+        white: args.white.unwrap_or(t.white),
+    }
+}
+
+/// Applies `--width` / `--height`; one alone keeps the scene's aspect ratio.
+pub fn apply_size(desc: &mut SceneDesc, width: Option<u32>, height: Option<u32>) {
+    let (w0, h0) = (desc.camera.width as f64, desc.camera.height as f64);
+    let scaled = |v: f64| (v.round() as u32).clamp(1, 16384);
+    match (width, height) {
+        (Some(w), Some(h)) => (desc.camera.width, desc.camera.height) = (w, h),
+        (Some(w), None) => (desc.camera.width, desc.camera.height) = (w, scaled(w as f64 * h0 / w0)),
+        (None, Some(h)) => (desc.camera.width, desc.camera.height) = (scaled(h as f64 * w0 / h0), h),
+        (None, None) => {}
+    }
+}
+
+/// Applies the sampling overrides of the command line to the scene.
+fn apply_effects(desc: &mut SceneDesc, args: &RenderArgs) {
+    for &(effect, n) in &args.samples {
+        match effect {
+            Effect::Aa => desc.settings.aa.samples = n,
+            Effect::Lens => desc.camera.lens.samples = n,
+            Effect::Glossy => desc.settings.glossy.samples = n,
+            Effect::Shadow => desc.lights.iter_mut().for_each(|l| {
+                if let LightDesc::Rect { samples, .. } | LightDesc::Disk { samples, .. } = l {
+                    *samples = n;
+                }
+            }),
+        }
+    }
+    for &(effect, p) in &args.pattern {
+        match effect {
+            Effect::Aa => desc.settings.aa.pattern = p,
+            Effect::Lens => desc.camera.lens.pattern = p,
+            Effect::Glossy => desc.settings.glossy.pattern = p,
+            Effect::Shadow => desc.lights.iter_mut().for_each(|l| {
+                if let LightDesc::Rect { pattern, .. } | LightDesc::Disk { pattern, .. } = l {
+                    *pattern = p;
+                }
+            }),
+        }
+    }
+    if let Some((threshold, max_depth)) = args.adaptive {
+        desc.settings.adaptive = Some(AdaptiveDesc { threshold, max_depth });
+    }
+    if args.no_adaptive {
+        desc.settings.adaptive = None;
+    }
+    if let Some(r) = args.aperture {
+        desc.camera.aperture = r;
+    }
+}
+
+fn report(
+    stats: &RenderStats,
+    written: &[PathBuf],
+    legend: Option<&[String]>,
+    stats_path: Option<&Path>,
+) -> anyhow::Result<()> {
+    let output = written.first().map_or_else(String::new, |p| p.display().to_string());
+    let output =
+        if written.len() > 1 { format!("{output} (+{} AOV files)", written.len() - 1) } else { output };
+    let text = match stats_path {
+        Some(path) => {
+            let mut json = serde_json::to_value(stats).context("cannot encode statistics")?;
+            if let (Some(legend), Some(map)) = (legend, json.as_object_mut()) {
+                let ids: serde_json::Map<String, serde_json::Value> = legend
+                    .iter()
+                    .enumerate()
+                    .map(|(i, name)| ((i + 1).to_string(), name.clone().into()))
+                    .collect();
+                map.insert("object_ids".into(), ids.into());
+            }
+            let bytes = serde_json::to_vec_pretty(&json).context("cannot encode statistics")?;
+            write_atomically(path, &bytes)?;
+            format!("wrote {output}\n{}\nstats      {}", stats.summary(), path.display())
+        }
+        None => format!(
+            "wrote {output} ({}x{}, {} rays in {:.3} s, {:.2} Mrays/s)",
+            stats.width,
+            stats.height,
+            stats.rays.total(),
+            stats.times.trace,
+            stats.mrays_per_s()
+        ),
+    };
+    // The files are written; a closed stdout (`penumbra ... | head`) is not an error.
+    match writeln!(std::io::stdout().lock(), "{text}") {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e).context("cannot write to stdout"),
+        _ => Ok(()),
+    }
+}
