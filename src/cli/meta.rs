@@ -35,13 +35,13 @@ pub fn describe(
     let mut m = Metadata::default();
     m.set(VERSION, env!("CARGO_PKG_VERSION"));
     m.set(SCENE, origin);
-    m.set(SCENE_HASH, &sha256_hex(scene_source));
+    m.set(SCENE_HASH, sha256_hex(scene_source));
     m.set(SCRIPT_HASH, "none");
-    m.set("penumbra.frame", &settings.frame.to_string());
-    m.set("penumbra.seed", &settings.seed.to_string());
-    m.set("penumbra.settings", &format!("{settings:?}"));
-    m.set("penumbra.tonemap", &format!("{tone:?}"));
-    m.set(ARGS, &serde_json::Value::from(replay.to_vec()).to_string());
+    m.set("penumbra.frame", settings.frame.to_string());
+    m.set("penumbra.seed", settings.seed.to_string());
+    m.set("penumbra.settings", format!("{settings:?}"));
+    m.set("penumbra.tonemap", format!("{tone:?}"));
+    m.set(ARGS, serde_json::Value::from(replay.to_vec()).to_string());
     m
 }
 
