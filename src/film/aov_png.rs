@@ -2,10 +2,11 @@
 //!
 //! - `depth`, `cost`: false colour of `value / max` through the Turbo colour ramp (Anton
 //!   Mikhailov's 2019 colormap, as its published degree-5 polynomial fit in display space);
-//!   `max` is stored as `penumbra.aov.depth.max` / `penumbra.aov.cost.max`. Background depth
-//!   (+∞, or NaN) is black.
+//!   `max` is stored as `penumbra.aov.depth.max` / `penumbra.aov.cost.max`. For depth it is
+//!   twice the median finite depth (farther values take the top colour), so a floor
+//!   running to the horizon does not flatten the rest. Background depth (+∞, or NaN) is black.
 //! - `normal`: `n * 0.5 + 0.5` per component, stored as is (the usual normal-map encoding, no
-//!   transfer curve), so (0.5, 0.5, 1) means facing +Z.
+//!   transfer curve), so (0.5, 0.5, 1) means facing +Z; background (no hit) is black.
 //! - `albedo`: `kd` encoded with the sRGB curve, like a colour image.
 //! - `object`: a colour per id from a hash of the id (hue, then saturation and value in bright
 //!   ranges); id 0 (background) is black; the legend `1=name,2=name…` is stored as
@@ -75,6 +76,18 @@ fn hsv_to_rgb(h: f32, s: f32, v: f32) -> [f32; 3] {
 }
 
 /// Scalar values through the Turbo ramp scaled by `max` (non-finite values black).
+/// Twice the median of the finite values (a floor plane reaching the horizon would otherwise
+/// squeeze every nearer depth into the bottom of the ramp), or their maximum if that is less.
+pub(crate) fn robust_max(values: &[f32]) -> f32 {
+    let mut finite: Vec<f32> = values.iter().copied().filter(|v| v.is_finite()).collect();
+    if finite.is_empty() {
+        return 0.0;
+    }
+    finite.sort_by(f32::total_cmp);
+    let median = finite[(finite.len() - 1) / 2];
+    (2.0 * median).min(finite[finite.len() - 1]).max(0.0)
+}
+
 fn false_colour(values: impl Iterator<Item = f32>, max: f32) -> Vec<u8> {
     values
         .flat_map(|v| {
@@ -99,14 +112,16 @@ fn entries(name: &str, extra: &[(&str, String)]) -> Vec<(String, String)> {
 pub(crate) fn aov_images(aovs: &Aovs) -> Vec<AovImage> {
     let mut out = Vec::new();
     if let Some(depth) = &aovs.depth {
-        let max = depth.iter().copied().filter(|d| d.is_finite()).fold(0.0_f32, f32::max);
+        let max = robust_max(depth);
         let extra = [("penumbra.aov.depth.max", max.to_string()), ("penumbra.aov.colormap", "turbo".into())];
         let rgb = false_colour(depth.iter().copied(), max);
         out.push(AovImage { name: "depth", rgb, extra: entries("depth", &extra) });
     }
     if let Some(normal) = &aovs.normal {
-        let rgb = normal.iter().flat_map(|n| (*n * 0.5 + Vec3::splat(0.5)).to_array().map(to_u8)).collect();
-        let extra = [("penumbra.aov.normal.encoding", "rgb = n * 0.5 + 0.5".to_owned())];
+        // Background pixels (no hit: a zero normal) are black, not mid-grey.
+        let encode = |n: &Vec3| if *n == Vec3::ZERO { Vec3::ZERO } else { *n * 0.5 + Vec3::splat(0.5) };
+        let rgb = normal.iter().flat_map(|n| encode(n).to_array().map(to_u8)).collect();
+        let extra = [("penumbra.aov.normal.encoding", "rgb = n * 0.5 + 0.5; background black".to_owned())];
         out.push(AovImage { name: "normal", rgb, extra: entries("normal", &extra) });
     }
     if let Some(albedo) = &aovs.albedo {
@@ -157,6 +172,16 @@ mod tests {
     }
 
     #[test]
+    fn the_depth_scale_ignores_a_few_far_outliers() {
+        let mut depths: Vec<f32> = (0..100).map(|i| i as f32 / 10.0).collect();
+        depths[99] = 1e6; // a floor at the horizon
+        depths.push(f32::INFINITY);
+        assert_eq!(robust_max(&depths), 9.8, "twice the median 4.9");
+        assert_eq!(robust_max(&[1.0, 1.5]), 1.5, "never above the largest depth");
+        assert_eq!(robust_max(&[f32::INFINITY]), 0.0);
+    }
+
+    #[test]
     fn depth_and_cost_scale_by_their_maximum() {
         let set = AovSet { depth: true, cost: true, object: true, ..Default::default() };
         let mut aovs = Aovs::new(set, 3, 1);
@@ -168,7 +193,7 @@ mod tests {
         let names: Vec<_> = images.iter().map(|i| i.name).collect();
         assert_eq!(names, ["depth", "object", "cost"]);
         let depth = &images[0];
-        assert!(depth.extra.contains(&("penumbra.aov.depth.max".into(), "4".into())));
+        assert!(depth.extra.contains(&("penumbra.aov.depth.max".into(), "2".into())), "twice the median");
         assert_eq!(depth.rgb[3..6], turbo(1.0).map(to_u8));
         assert_eq!(depth.rgb[6..9], [0, 0, 0]);
         assert!(images[1].extra.contains(&(LEGEND_KEY.into(), "1=floor,2=ball".into())));

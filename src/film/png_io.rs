@@ -179,8 +179,7 @@ mod tests {
             let got = read_metadata(p).unwrap();
             assert_eq!(got.get("penumbra.note"), Some("Grüße, 世界 🌍"), "{p:?}");
         }
-        let depth_max =
-            aovs.depth.as_ref().unwrap().iter().copied().filter(|d| d.is_finite()).fold(0.0, f32::max);
+        let depth_max = crate::film::aov_png::robust_max(aovs.depth.as_ref().unwrap());
         let depth_meta = read_metadata(&written[1]).unwrap();
         assert_eq!(depth_meta.get("penumbra.aov.depth.max"), Some(depth_max.to_string().as_str()));
         assert_eq!(depth_meta.get("penumbra.aov"), Some("depth"));

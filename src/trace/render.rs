@@ -146,6 +146,7 @@ pub fn render_with_aovs<S: PrimitiveStore>(
         rays,
         adaptive,
         effects: scene.effects,
+        aov_bytes: aovs.as_ref().map_or(0, |a| a.memory_bytes() as u64),
         samples_per_pixel: match settings.adaptive {
             Some(_) => 0,
             None => {

@@ -121,6 +121,8 @@ pub struct RenderStats {
     pub effects: Effects,
     /// Camera samples per pixel (AA × lens; 0 with adaptive supersampling, which varies).
     pub samples_per_pixel: u32,
+    /// Bytes of the AOV buffers (0 when none was asked for).
+    pub aov_bytes: u64,
     /// Seconds per stage.
     pub times: StageTimes,
     /// Grid figures.
