@@ -12,6 +12,7 @@ pub mod geom;
 pub mod math;
 pub mod sample;
 pub mod scene;
+pub mod script;
 pub mod store;
 pub mod trace;
 pub mod world;
