@@ -10,7 +10,7 @@ use crate::sample::adaptive::AdaptiveSettings;
 use crate::sample::warp::orthonormal_basis;
 use crate::store::{MaterialId, PrimitiveStore};
 use crate::trace::{self, AntiAliasing, Material, Sampling};
-use crate::world::components::{Light, MaterialRef, Name, Shape, Transform, WorldAabb, WorldShape};
+use crate::world::components::{Light, MaterialRef, Name, Shape, Transform, Visible, WorldAabb, WorldShape};
 use crate::world::resources::{CameraRig, Focus, Materials, SceneSettings};
 use crate::world::SceneWorld;
 
@@ -86,10 +86,11 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
             MaterialRef(material),
             WorldShape(placed),
             WorldAabb(aabb),
+            Visible(true),
         ));
     }
     for (i, light) in desc.lights.iter().enumerate() {
-        world.spawn((Name::new(format!("light_{i}")), Light(light_of(light))));
+        world.spawn((Name::new(format!("light_{i}")), Light(light_of(light)), Visible(true)));
     }
     world.insert_resource(materials);
     SceneWorld::new(world)

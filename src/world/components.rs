@@ -1,5 +1,5 @@
 //! Components of scene entities: authored data (`Shape`, `Transform`, `MaterialRef`, `Light`,
-//! `Name`) and data the systems derive from it (`WorldShape`, `WorldAabb`).
+//! `Visible`, `Name`) and data the systems derive from it (`WorldShape`, `WorldAabb`).
 
 use bevy_ecs::prelude::Component;
 
@@ -56,6 +56,18 @@ impl Transform {
 /// The material an entity is drawn with (an index into [`super::resources::Materials`]).
 #[derive(Component, Debug, Clone, Copy, PartialEq, Eq)]
 pub struct MaterialRef(pub MaterialId);
+
+/// Whether an object or light takes part in the frame. Hidden objects are left out of the
+/// grid and the snapshot (hiding or showing a bounded object rebuilds the grid); hidden lights
+/// cast no light. Entities without the component are visible.
+#[derive(Component, Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Visible(pub bool);
+
+impl Default for Visible {
+    fn default() -> Self {
+        Self(true)
+    }
+}
 
 /// A light source entity.
 #[derive(Component, Debug, Clone, Copy, PartialEq)]

@@ -61,6 +61,16 @@ impl<S: PrimitiveStore + 'static> SceneWorld<S> {
         self.world.resource::<Snapshot<S>>().0.clone().expect("build_snapshot runs every frame")
     }
 
+    /// Adds a system that runs at the start of every frame, before bounds are derived
+    /// ([`schedule::FrameSystems::Input`]): the place for drivers such as scripts to write
+    /// into components.
+    pub fn add_input_system<M>(
+        &mut self,
+        system: impl bevy_ecs::schedule::IntoScheduleConfigs<bevy_ecs::system::ScheduleSystem, M>,
+    ) {
+        self.schedule.add_systems(system.in_set(schedule::FrameSystems::Input));
+    }
+
     /// The World, for reading components and resources.
     pub fn world(&self) -> &World {
         &self.world

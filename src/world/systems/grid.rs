@@ -6,36 +6,48 @@ use std::time::Instant;
 use bevy_ecs::prelude::{Changed, Entity, Query, RemovedComponents, Res, ResMut};
 
 use crate::accel::GridBuilder;
-use crate::world::components::{WorldAabb, WorldShape};
+use crate::world::components::{Visible, WorldAabb, WorldShape};
 use crate::world::resources::{GridIndex, GridRebuilds, SceneSettings, StageClock};
 
-/// Run condition of [`rebuild_grid`]: some bounded geometry changed (spawned entities count as
-/// changed) or a `WorldAabb` was removed (despawned entity).
+/// Run condition of [`rebuild_grid`]: some visible bounded geometry changed (spawned entities
+/// count as changed), a bounded entity was hidden or shown, or a `WorldAabb` was removed
+/// (despawned entity).
 ///
 /// Both parts run every frame (`or_eager` semantics): the removal reader must be drained each
 /// frame, or a stale removal would trigger a rebuild on a later, unchanged frame.
 pub fn grid_needs_rebuild(
-    changed: Query<&WorldAabb, Changed<WorldAabb>>,
+    changed: Query<(&WorldAabb, Option<&Visible>), Changed<WorldAabb>>,
+    toggled: Query<&WorldAabb, Changed<Visible>>,
     mut removed: RemovedComponents<WorldAabb>,
 ) -> bool {
-    // An unbounded entity (a plane) that moved changes nothing the grid indexes.
-    let any_changed = changed.iter().any(WorldAabb::is_bounded);
+    // An unbounded entity (a plane) that moved changes nothing the grid indexes, and neither
+    // does a hidden one.
+    let any_changed = changed.iter().any(|(aabb, visible)| aabb.is_bounded() && is_visible(visible));
+    let any_toggled = toggled.iter().any(WorldAabb::is_bounded);
     let any_removed = removed.read().count() > 0;
-    any_changed || any_removed
+    any_changed || any_toggled || any_removed
 }
 
-/// Rebuilds the grid over every bounded entity, in entity order (so the grid, and every image,
+/// True unless the entity carries `Visible(false)`.
+pub fn is_visible(visible: Option<&Visible>) -> bool {
+    visible.is_none_or(|v| v.0)
+}
+
+/// Rebuilds the grid over every visible bounded entity, in entity order (so the grid, and every image,
 /// is independent of query iteration order), and counts the rebuild.
 pub fn rebuild_grid(
-    objects: Query<(Entity, &WorldAabb, &WorldShape)>,
+    objects: Query<(Entity, &WorldAabb, &WorldShape, Option<&Visible>)>,
     settings: Res<SceneSettings>,
     mut index: ResMut<GridIndex>,
     mut rebuilds: ResMut<GridRebuilds>,
     mut clock: ResMut<StageClock>,
 ) {
     let started = Instant::now();
-    let mut bounded: Vec<(Entity, &WorldAabb, &WorldShape)> =
-        objects.iter().filter(|(_, aabb, _)| aabb.is_bounded()).collect();
+    let mut bounded: Vec<(Entity, &WorldAabb, &WorldShape)> = objects
+        .iter()
+        .filter(|(_, aabb, _, visible)| aabb.is_bounded() && is_visible(*visible))
+        .map(|(e, aabb, shape, _)| (e, aabb, shape))
+        .collect();
     bounded.sort_unstable_by_key(|(e, _, _)| *e);
     let bounds: Vec<_> = bounded.iter().map(|(_, aabb, _)| aabb.0).collect();
     let grid =

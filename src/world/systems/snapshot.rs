@@ -7,15 +7,26 @@ use bevy_ecs::prelude::{Entity, Query, Res, ResMut};
 
 use crate::store::{PlacedObject, PrimitiveStore};
 use crate::trace::{SceneTables, TraceScene};
-use crate::world::components::{Light, MaterialRef, Name, WorldAabb, WorldShape};
+use crate::world::components::{Light, MaterialRef, Name, Visible, WorldAabb, WorldShape};
 use crate::world::resources::{CameraRig, GridIndex, Materials, SceneSettings, Snapshot, StageClock};
+use crate::world::systems::grid::is_visible;
 
-/// Builds this frame's snapshot: bounded objects in grid order, planes in entity order, lights
-/// in entity order, and the material table, camera and settings.
+/// What the snapshot reads of each object.
+type ObjectParts = (
+    Entity,
+    &'static WorldShape,
+    &'static WorldAabb,
+    &'static MaterialRef,
+    Option<&'static Name>,
+    Option<&'static Visible>,
+);
+
+/// Builds this frame's snapshot: bounded objects in grid order, visible planes and lights in
+/// entity order, and the material table, camera and settings.
 #[allow(clippy::too_many_arguments)]
 pub fn build_snapshot<S: PrimitiveStore + 'static>(
-    objects: Query<(Entity, &WorldShape, &WorldAabb, &MaterialRef, Option<&Name>)>,
-    lights: Query<(Entity, &Light)>,
+    objects: Query<ObjectParts>,
+    lights: Query<(Entity, &Light, Option<&Visible>)>,
     index: Res<GridIndex>,
     materials: Res<Materials>,
     rig: Res<CameraRig>,
@@ -33,29 +44,32 @@ pub fn build_snapshot<S: PrimitiveStore + 'static>(
         .entities
         .iter()
         .filter_map(|&e| objects.get(e).ok())
-        .map(|(_, shape, _, material, _)| placed(shape, material))
+        .map(|(_, shape, _, material, ..)| placed(shape, material))
         .collect();
     debug_assert_eq!(bounded.len(), index.entities.len(), "grid index out of date");
 
-    let mut planes: Vec<_> = objects.iter().filter(|(_, _, aabb, ..)| !aabb.is_bounded()).collect();
+    let mut planes: Vec<_> = objects
+        .iter()
+        .filter(|(_, _, aabb, _, _, visible)| !aabb.is_bounded() && is_visible(*visible))
+        .collect();
     planes.sort_unstable_by_key(|(e, ..)| *e);
     let unbounded: Vec<PlacedObject> =
-        planes.iter().map(|(_, shape, _, material, _)| placed(shape, material)).collect();
+        planes.iter().map(|(_, shape, _, material, ..)| placed(shape, material)).collect();
     let name = |name: Option<&Name>| name.map_or_else(String::new, |n| n.as_str().to_owned());
     let object_names: Vec<String> = index
         .entities
         .iter()
         .filter_map(|&e| objects.get(e).ok())
-        .map(|(.., n)| name(n))
-        .chain(planes.iter().map(|(.., n)| name(*n)))
+        .map(|(.., n, _)| name(n))
+        .chain(planes.iter().map(|(.., n, _)| name(*n)))
         .collect();
 
-    let mut lights: Vec<_> = lights.iter().collect();
-    lights.sort_unstable_by_key(|(e, _)| *e);
+    let mut lights: Vec<_> = lights.iter().filter(|(.., visible)| is_visible(*visible)).collect();
+    lights.sort_unstable_by_key(|(e, ..)| *e);
 
     let tables = SceneTables {
         materials: materials.table.clone(),
-        lights: lights.iter().map(|(_, l)| l.0).collect(),
+        lights: lights.iter().map(|(_, l, _)| l.0).collect(),
         camera: rig.camera(),
         background: settings.background,
         ambient: settings.ambient,
