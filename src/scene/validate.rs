@@ -106,6 +106,16 @@ pub fn validate(scene: &SceneDesc) -> Check {
     Ok(())
 }
 
+/// The first rule a camera breaks, with a path relative to the camera (e.g. `fov_deg`).
+pub fn camera_violation(camera: &CameraDesc) -> Option<Violation> {
+    self::camera(&FieldPath::root(), camera).err()
+}
+
+/// The first rule a material breaks, with a path relative to the material (e.g. `kd`).
+pub fn material_violation(material: &MaterialDesc) -> Option<Violation> {
+    self::material(&FieldPath::root(), material).err()
+}
+
 fn camera(path: &FieldPath, camera: &CameraDesc) -> Check {
     finite_vec(path, "position", camera.position)?;
     finite_vec(path, "look_at", camera.look_at)?;

@@ -1,4 +1,32 @@
 //! Rhai scripting: a sandboxed engine that drives the World's camera, objects, materials and
-//! settings frame by frame.
+//! settings frame by frame, for animations ([`animate`]) and parameter sweeps.
+//!
+//! ```
+//! use penumbra::scene::{default_scene, spawn_world};
+//! use penumbra::script::{Clock, Limits, Script, ScriptedWorld};
+//! let script = Script::from_source(
+//!     "orbit.rhai",
+//!     "fn frame(t) { camera.position = vec3(6 * sin(t), 2, -6 * cos(t)); }",
+//!     Limits::default(),
+//! )?;
+//! let mut world: ScriptedWorld = ScriptedWorld::new(spawn_world(&default_scene()), &script);
+//! world.setup()?;
+//! world.frame(Clock::at(12, 24.0))?; // t = 0.5 s
+//! let snapshot = world.update();
+//! assert!((snapshot.camera.position.x - 6.0 * 0.5f32.sin()).abs() < 1e-5);
+//! # Ok::<(), penumbra::script::ScriptError>(())
+//! ```
 
+pub mod animate;
 pub mod api;
+pub mod engine;
+pub mod error;
+pub mod runtime;
+pub mod state;
+pub mod sweep;
+
+pub use animate::{Animation, FrameRange};
+pub use engine::Limits;
+pub use error::{ErrorKind, Limit, ScriptError};
+pub use runtime::{Script, ScriptRuntime, ScriptedWorld};
+pub use state::Clock;

@@ -47,6 +47,21 @@ impl RayCounts {
         self.camera + self.lens
     }
 
+    /// Each kind's count with its name, in declaration order.
+    pub fn kinds(&self) -> [(&'static str, u64); 9] {
+        [
+            ("camera", self.camera),
+            ("lens", self.lens),
+            ("shadow", self.shadow),
+            ("area_shadow", self.area_shadow),
+            ("reflection", self.reflection),
+            ("glossy", self.glossy),
+            ("refraction", self.refraction),
+            ("blurry", self.blurry),
+            ("aov", self.aov),
+        ]
+    }
+
     /// Adds another count.
     pub fn add(&mut self, o: &RayCounts) {
         self.camera += o.camera;
@@ -77,7 +92,9 @@ pub struct AdaptiveCounts {
 pub struct StageTimes {
     /// Reading, parsing and validating the scene.
     pub load: f64,
-    /// Spawning or updating the World (scripts, transforms, bounds).
+    /// Running the script's `setup`, `frame` or `apply` (animations and sweeps).
+    pub script: f64,
+    /// Spawning or updating the World (applying writes, transforms, bounds).
     pub world_update: f64,
     /// Building the grid (zero on frames that reuse it).
     pub grid_build: f64,
@@ -154,7 +171,7 @@ impl RenderStats {
              adaptive   {} points traced, {} reused, {} subdivisions\n\
              speed      {:.2} Mrays/s\n\
              grid       {}x{}x{} cells, {} objects, {} references, {} B grid, {} B store\n\
-             time (ms)  load {:.2}, world {:.2}, grid build {:.2}, snapshot {:.2}, trace {:.2}, write {:.2}",
+             time (ms)  load {:.2}, script {:.2}, world {:.2}, grid build {:.2}, snapshot {:.2}, trace {:.2}, write {:.2}",
             self.width,
             self.height,
             self.threads,
@@ -181,6 +198,7 @@ impl RenderStats {
             self.grid.grid_bytes,
             self.grid.store_bytes,
             t.load * 1e3,
+            t.script * 1e3,
             t.world_update * 1e3,
             t.grid_build * 1e3,
             t.snapshot * 1e3,

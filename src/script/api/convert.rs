@@ -4,7 +4,11 @@
 //! numeric parameter of the API accepts either and converts here. Errors are runtime errors
 //! without a position: Rhai attaches the position of the call or assignment that failed.
 
+use glam::DVec3;
 use rhai::{Dynamic, EvalAltResult, FLOAT, INT};
+
+use super::path::Path;
+use super::scene::{CameraHandle, EntityHandle, SettingsHandle};
 
 /// What API functions return: a value or a Rhai runtime error.
 pub type ScriptResult<T> = Result<T, Box<EvalAltResult>>;
@@ -14,15 +18,32 @@ pub fn error<T>(message: impl Into<String>) -> ScriptResult<T> {
     Err(message.into().into())
 }
 
+/// The script name of `value`'s type: `vec3`, `path`, `entity` rather than Rust paths.
+pub fn type_name(value: &Dynamic) -> &'static str {
+    if value.is::<DVec3>() {
+        "vec3"
+    } else if value.is::<Path>() {
+        "path"
+    } else if value.is::<EntityHandle>() {
+        "entity"
+    } else if value.is::<CameraHandle>() {
+        "camera"
+    } else if value.is::<SettingsHandle>() {
+        "settings"
+    } else {
+        value.type_name()
+    }
+}
+
 /// `value` as a float: an integer or a float, named `what` in the error.
 pub fn number(value: &Dynamic, what: &str) -> ScriptResult<f64> {
     if let Ok(f) = value.as_float() {
-        return Ok(f as f64);
+        return Ok(f);
     }
     if let Ok(i) = value.as_int() {
         return Ok(i as f64);
     }
-    error(format!("{what} must be a number, got {}", value.type_name()))
+    error(format!("{what} must be a number, got {}", type_name(value)))
 }
 
 /// `value` as a finite float.
@@ -46,7 +67,7 @@ pub fn integer(value: &Dynamic, what: &str) -> ScriptResult<INT> {
         }
         return error(format!("{what} must be a whole number, got {f}"));
     }
-    error(format!("{what} must be a whole number, got {}", value.type_name()))
+    error(format!("{what} must be a whole number, got {}", type_name(value)))
 }
 
 #[cfg(test)]

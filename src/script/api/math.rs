@@ -16,8 +16,7 @@
 use glam::DVec3;
 use rhai::{Dynamic, Engine, INT};
 
-use super::convert::{error, finite, ScriptResult};
-use super::path::Path;
+use super::convert::{error, finite, type_name, ScriptResult};
 
 /// The names `ease(name, t)` accepts, in the order error messages list them.
 pub const EASE_NAMES: [&str; 6] = ["linear", "in", "out", "in_out", "smooth", "sine"];
@@ -35,25 +34,6 @@ pub const EASE_NAMES: [&str; 6] = ["linear", "in", "out", "in_out", "smooth", "s
 pub fn register(engine: &mut Engine) {
     register_vec3(engine);
     register_scalars(engine);
-}
-
-/// The script name of `value`'s type: `vec3` and `path` rather than their Rust paths.
-pub(super) fn type_name(value: &Dynamic) -> &'static str {
-    if value.is::<DVec3>() {
-        "vec3"
-    } else if value.is::<Path>() {
-        "path"
-    } else {
-        value.type_name()
-    }
-}
-
-/// `value` as a finite float, naming script types properly when it is not a number.
-pub(super) fn scalar(value: &Dynamic, what: &str) -> ScriptResult<f64> {
-    if value.is_variant() || value.is::<DVec3>() || value.is::<Path>() {
-        return error(format!("{what} must be a number, got {}", type_name(value)));
-    }
-    finite(value, what)
 }
 
 /// `v` written as a script literal: `vec3(1, 0.5, -2)`.
@@ -82,22 +62,22 @@ fn register_vec3(engine: &mut Engine) {
     engine
         .register_type_with_name::<DVec3>("vec3")
         .register_fn("vec3", |x: Dynamic, y: Dynamic, z: Dynamic| -> ScriptResult<DVec3> {
-            Ok(DVec3::new(scalar(&x, "vec3 x")?, scalar(&y, "vec3 y")?, scalar(&z, "vec3 z")?))
+            Ok(DVec3::new(finite(&x, "vec3 x")?, finite(&y, "vec3 y")?, finite(&z, "vec3 z")?))
         })
-        .register_fn("vec3", |s: Dynamic| scalar(&s, "vec3 value").map(DVec3::splat))
+        .register_fn("vec3", |s: Dynamic| finite(&s, "vec3 value").map(DVec3::splat))
         .register_get("x", |v: &mut DVec3| v.x)
         .register_get("y", |v: &mut DVec3| v.y)
         .register_get("z", |v: &mut DVec3| v.z)
         .register_set("x", |v: &mut DVec3, x: Dynamic| -> ScriptResult<()> {
-            v.x = scalar(&x, "vec3 x")?;
+            v.x = finite(&x, "vec3 x")?;
             Ok(())
         })
         .register_set("y", |v: &mut DVec3, y: Dynamic| -> ScriptResult<()> {
-            v.y = scalar(&y, "vec3 y")?;
+            v.y = finite(&y, "vec3 y")?;
             Ok(())
         })
         .register_set("z", |v: &mut DVec3, z: Dynamic| -> ScriptResult<()> {
-            v.z = scalar(&z, "vec3 z")?;
+            v.z = finite(&z, "vec3 z")?;
             Ok(())
         })
         .register_fn("to_string", |v: &mut DVec3| format_vec3(*v))
@@ -110,10 +90,10 @@ fn register_vec3(engine: &mut Engine) {
         .register_fn("-", |a: DVec3| -a)
         .register_fn("*", |a: DVec3, b: DVec3| checked(a * b, "vec3 *"))
         .register_fn("*", |a: DVec3, s: Dynamic| {
-            checked(a * scalar(&s, "the factor in vec3 * number")?, "vec3 *")
+            checked(a * finite(&s, "the factor in vec3 * number")?, "vec3 *")
         })
         .register_fn("*", |s: Dynamic, a: DVec3| {
-            checked(scalar(&s, "the factor in number * vec3")? * a, "vec3 *")
+            checked(finite(&s, "the factor in number * vec3")? * a, "vec3 *")
         })
         .register_fn("/", |a: DVec3, b: DVec3| {
             if b.cmpeq(DVec3::ZERO).any() {
@@ -125,7 +105,7 @@ fn register_vec3(engine: &mut Engine) {
             checked(a / b, "vec3 /")
         })
         .register_fn("/", |a: DVec3, s: Dynamic| {
-            let s = scalar(&s, "the divisor in vec3 / number")?;
+            let s = finite(&s, "the divisor in vec3 / number")?;
             if s == 0.0 {
                 return error("vec3 / number: division by zero");
             }
@@ -150,7 +130,7 @@ fn register_vec3(engine: &mut Engine) {
         .register_fn("min", |a: DVec3, b: DVec3| a.min(b))
         .register_fn("max", |a: DVec3, b: DVec3| a.max(b))
         .register_fn("lerp", |a: DVec3, b: DVec3, t: Dynamic| {
-            checked(a.lerp(b, scalar(&t, "lerp t")?), "lerp")
+            checked(a.lerp(b, finite(&t, "lerp t")?), "lerp")
         });
 }
 
@@ -164,20 +144,20 @@ fn register_scalars(engine: &mut Engine) {
                     type_name(&b)
                 ));
             }
-            let (a, b) = (scalar(&a, "lerp a")?, scalar(&b, "lerp b")?);
-            let t = scalar(&t, "lerp t")?;
+            let (a, b) = (finite(&a, "lerp a")?, finite(&b, "lerp b")?);
+            let t = finite(&t, "lerp t")?;
             checked_float(lerp(a, b, t), "lerp")
         })
         .register_fn("clamp", clamp)
         .register_fn("smoothstep", |e0: Dynamic, e1: Dynamic, x: Dynamic| {
-            let e0 = scalar(&e0, "smoothstep e0")?;
-            let e1 = scalar(&e1, "smoothstep e1")?;
-            let x = scalar(&x, "smoothstep x")?;
+            let e0 = finite(&e0, "smoothstep e0")?;
+            let e1 = finite(&e1, "smoothstep e1")?;
+            let x = finite(&x, "smoothstep x")?;
             checked_float(smoothstep(e0, e1, x), "smoothstep")
         })
-        .register_fn("ease_in", |t: Dynamic| scalar(&t, "ease_in t").map(ease_in))
-        .register_fn("ease_out", |t: Dynamic| scalar(&t, "ease_out t").map(ease_out))
-        .register_fn("ease_in_out", |t: Dynamic| scalar(&t, "ease_in_out t").map(ease_in_out))
+        .register_fn("ease_in", |t: Dynamic| finite(&t, "ease_in t").map(ease_in))
+        .register_fn("ease_out", |t: Dynamic| finite(&t, "ease_out t").map(ease_out))
+        .register_fn("ease_in_out", |t: Dynamic| finite(&t, "ease_in_out t").map(ease_in_out))
         .register_fn("ease", |name: Dynamic, t: Dynamic| {
             let Some(name) = name.read_lock::<rhai::ImmutableString>() else {
                 return error(format!(
@@ -186,7 +166,7 @@ fn register_scalars(engine: &mut Engine) {
                     type_name(&name)
                 ));
             };
-            let t = scalar(&t, "ease t")?;
+            let t = finite(&t, "ease t")?;
             match ease(&name, t) {
                 Some(value) => Ok(value),
                 None => error(format!(
@@ -197,10 +177,10 @@ fn register_scalars(engine: &mut Engine) {
             }
         })
         .register_fn("radians", |deg: Dynamic| {
-            checked_float(scalar(&deg, "radians deg")?.to_radians(), "radians")
+            checked_float(finite(&deg, "radians deg")?.to_radians(), "radians")
         })
         .register_fn("degrees", |rad: Dynamic| {
-            checked_float(scalar(&rad, "degrees rad")?.to_degrees(), "degrees")
+            checked_float(finite(&rad, "degrees rad")?.to_degrees(), "degrees")
         });
 }
 
@@ -212,8 +192,8 @@ fn clamp(x: Dynamic, lo: Dynamic, hi: Dynamic) -> ScriptResult<Dynamic> {
         }
         return Ok(Dynamic::from_int(INT::clamp(x, lo, hi)));
     }
-    let x = scalar(&x, "clamp x")?;
-    let (lo, hi) = (scalar(&lo, "clamp lo")?, scalar(&hi, "clamp hi")?);
+    let x = finite(&x, "clamp x")?;
+    let (lo, hi) = (finite(&lo, "clamp lo")?, finite(&hi, "clamp hi")?);
     if lo > hi {
         return error(format!("clamp: lo ({lo}) must not be greater than hi ({hi})"));
     }

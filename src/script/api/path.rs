@@ -19,8 +19,7 @@ use std::fmt;
 use glam::DVec3;
 use rhai::{Array, Dynamic, Engine, INT};
 
-use super::convert::{error, ScriptResult};
-use super::math::{scalar, type_name};
+use super::convert::{error, finite, type_name, ScriptResult};
 
 /// Arc-length samples per segment.
 pub const SAMPLES: usize = 64;
@@ -277,8 +276,8 @@ pub fn register(engine: &mut Engine) {
             };
             from_script(points, closed)
         })
-        .register_fn("at", |p: &mut Path, u: Dynamic| scalar(&u, "path at u").map(|u| p.at(u)))
-        .register_fn("tangent", |p: &mut Path, u: Dynamic| scalar(&u, "path tangent u").map(|u| p.tangent(u)))
+        .register_fn("at", |p: &mut Path, u: Dynamic| finite(&u, "path at u").map(|u| p.at(u)))
+        .register_fn("tangent", |p: &mut Path, u: Dynamic| finite(&u, "path tangent u").map(|u| p.tangent(u)))
         .register_get("length", |p: &mut Path| p.length())
         .register_fn("length", |p: &mut Path| p.length())
         .register_get("points", |p: &mut Path| p.points.iter().copied().map(Dynamic::from).collect::<Array>())

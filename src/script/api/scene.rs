@@ -1,0 +1,489 @@
+//! The scene as scripts see it: the global variables `camera` and `settings`, entities by
+//! name (`entity("ball")`) and the clock (`frame_number()`, `time()`, `fps()`).
+//!
+//! Each is a handle onto the shared mirror ([`SharedState`]); property reads and writes go
+//! straight to it, so `let ball = entity("ball"); ball.position = p;` moves the ball and
+//! `camera.fov = 30` narrows the view. Every write is checked against the scene format's own rules and fails with
+//! the rule it broke, e.g. ``entity `ball`: kd must be in [0, 1] in every channel, got g = 1.2``.
+
+use glam::DVec3;
+use rhai::{Array, Dynamic, Engine, ImmutableString, Module, FLOAT, INT};
+
+use super::convert::{error, finite, integer, ScriptResult};
+use crate::scene::format::{CameraDesc, MaterialDesc, SamplingDesc};
+use crate::scene::validate::{self, MAX_ADAPTIVE_DEPTH, MAX_DEPTH, MAX_IMAGE_SIZE, MAX_SAMPLES};
+use crate::script::state::{EntityKind, EntityState, FocusState, MaterialParams, ScriptState, SharedState};
+
+/// Camera properties a sweep parameter may name.
+pub const CAMERA_PROPERTIES: &[&str] = &["position", "look_at", "up", "fov", "aperture", "focus_distance"];
+/// Settings properties a sweep parameter may name.
+pub const SETTINGS_PROPERTIES: &[&str] = &[
+    "samples",
+    "lens_samples",
+    "glossy_samples",
+    "max_depth",
+    "width",
+    "height",
+    "seed",
+    "adaptive",
+    "adaptive_depth",
+];
+
+/// Handle on the camera.
+#[derive(Clone)]
+pub struct CameraHandle(SharedState);
+
+/// Handle on one named entity.
+#[derive(Clone)]
+pub struct EntityHandle {
+    state: SharedState,
+    index: usize,
+}
+
+/// Handle on the render settings.
+#[derive(Clone)]
+pub struct SettingsHandle(SharedState);
+
+
+/// Registers the scene API over `state`.
+pub fn register(engine: &mut Engine, state: &SharedState) {
+    // Global variables, visible inside functions too (script functions see no outer
+    // variables, but they do see the engine's global module).
+    let mut globals = Module::new();
+    globals.set_var("camera", CameraHandle(state.clone()));
+    globals.set_var("settings", SettingsHandle(state.clone()));
+    engine.register_global_module(globals.into());
+    register_clock(engine, state);
+    register_camera(engine);
+    register_entities(engine, state);
+    register_settings(engine);
+}
+
+fn register_clock(engine: &mut Engine, state: &SharedState) {
+    let s = state.clone();
+    engine.register_fn("frame_number", move || s.lock().clock.frame as INT);
+    let s = state.clone();
+    engine.register_fn("time", move || s.lock().clock.time as FLOAT);
+    let s = state.clone();
+    engine.register_fn("fps", move || s.lock().clock.fps as FLOAT);
+}
+
+/// A finite vector, or an error naming `what`.
+fn finite_vec(v: DVec3, what: &str) -> ScriptResult<DVec3> {
+    match v.is_finite() {
+        true => Ok(v),
+        false => error(format!("{what} must be finite in every component, got {v}")),
+    }
+}
+
+fn register_camera(engine: &mut Engine) {
+    engine.register_type_with_name::<CameraHandle>("camera");
+    engine.register_fn("to_string", |_: &mut CameraHandle| "camera".to_string());
+
+    macro_rules! vec_property {
+        ($name:literal, $field:ident) => {
+            engine.register_get($name, |c: &mut CameraHandle| c.0.lock().camera.$field);
+            engine.register_set($name, |c: &mut CameraHandle, v: DVec3| -> ScriptResult<()> {
+                let v = finite_vec(v, concat!("camera.", $name))?;
+                let mut s = c.0.lock();
+                s.camera.$field = v;
+                s.camera_dirty = true;
+                Ok(())
+            });
+        };
+    }
+    vec_property!("position", position);
+    vec_property!("look_at", look_at);
+    vec_property!("up", up);
+
+    engine.register_get("fov", |c: &mut CameraHandle| c.0.lock().camera.fov_deg);
+    engine.register_set("fov", |c: &mut CameraHandle, v: Dynamic| -> ScriptResult<()> {
+        let fov = finite(&v, "camera.fov")?;
+        check_camera_field(|d| d.fov_deg = fov as f32)?;
+        let mut s = c.0.lock();
+        s.camera.fov_deg = fov;
+        s.camera_dirty = true;
+        Ok(())
+    });
+    engine.register_get("aperture", |c: &mut CameraHandle| c.0.lock().camera.aperture);
+    engine.register_set("aperture", |c: &mut CameraHandle, v: Dynamic| -> ScriptResult<()> {
+        let aperture = finite(&v, "camera.aperture")?;
+        check_camera_field(|d| d.aperture = aperture as f32)?;
+        let mut s = c.0.lock();
+        s.camera.aperture = aperture;
+        s.camera_dirty = true;
+        Ok(())
+    });
+    engine.register_get("focus_distance", |c: &mut CameraHandle| c.0.lock().focus_distance());
+    engine.register_set("focus_distance", |c: &mut CameraHandle, v: Dynamic| -> ScriptResult<()> {
+        let distance = finite(&v, "camera.focus_distance")?;
+        check_camera_field(|d| d.focus_distance = Some(distance as f32))?;
+        let mut s = c.0.lock();
+        s.camera.focus = FocusState::Distance(distance);
+        s.camera_dirty = true;
+        Ok(())
+    });
+    engine.register_fn("focus_on", |c: &mut CameraHandle, name: ImmutableString| -> ScriptResult<()> {
+        let mut s = c.0.lock();
+        let index = find(&s, &name)?;
+        s.camera.focus = FocusState::Entity(index);
+        s.camera_dirty = true;
+        Ok(())
+    });
+}
+
+/// Checks one camera field against the scene format's rules, on an otherwise valid camera.
+fn check_camera_field(set: impl FnOnce(&mut CameraDesc)) -> ScriptResult<()> {
+    let mut desc = CameraDesc {
+        position: glam::Vec3::ZERO,
+        look_at: glam::Vec3::Z,
+        up: glam::Vec3::Y,
+        fov_deg: 45.0,
+        width: 1,
+        height: 1,
+        aperture: 0.0,
+        focus_distance: None,
+        focus_on: None,
+        lens: SamplingDesc::default(),
+    };
+    set(&mut desc);
+    match validate::camera_violation(&desc) {
+        Some(v) => error(format!("camera.{}: {}", script_field(&v.path.to_string()), v.rule)),
+        None => Ok(()),
+    }
+}
+
+/// The camera as the scene format describes it, for whole-camera checks after a call.
+pub fn camera_desc(state: &ScriptState) -> CameraDesc {
+    let c = &state.camera;
+    CameraDesc {
+        position: c.position.as_vec3(),
+        look_at: c.look_at.as_vec3(),
+        up: c.up.as_vec3(),
+        fov_deg: c.fov_deg as f32,
+        width: state.settings.width,
+        height: state.settings.height,
+        aperture: c.aperture as f32,
+        focus_distance: match c.focus {
+            FocusState::Distance(d) => Some(d as f32),
+            _ => None,
+        },
+        focus_on: None,
+        lens: SamplingDesc { samples: state.settings.lens_samples, ..Default::default() },
+    }
+}
+
+/// The script's name of a scene-format field.
+fn script_field(field: &str) -> &str {
+    match field {
+        "fov_deg" => "fov",
+        "lens.samples" => "lens_samples",
+        other => other,
+    }
+}
+
+/// The index of the entity called `name`, or an error that suggests the closest name and
+/// lists the names there are.
+fn find(state: &ScriptState, name: &str) -> ScriptResult<usize> {
+    if let Some(index) = state.index_of(name) {
+        return Ok(index);
+    }
+    const SHOWN: usize = 24;
+    let mut names: Vec<&str> = state.entities.iter().map(|e| e.name.as_str()).collect();
+    names.sort_unstable();
+    let closest = names
+        .iter()
+        .map(|n| (edit_distance(name, n), *n))
+        .min()
+        .filter(|(d, n)| *d <= 2.max(n.len() / 3))
+        .map_or(String::new(), |(_, n)| format!(" (did you mean `{n}`?)"));
+    let more = match names.len().saturating_sub(SHOWN) {
+        0 => String::new(),
+        n => format!(" and {n} more"),
+    };
+    names.truncate(SHOWN);
+    error(format!("no entity named `{name}` in the scene{closest}; it has: {}{more}", names.join(", ")))
+}
+
+/// Levenshtein distance between two names.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut diagonal = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let next = (diagonal + usize::from(ca != *cb)).min(row[j] + 1).min(row[j + 1] + 1);
+            diagonal = row[j + 1];
+            row[j + 1] = next;
+        }
+    }
+    row[b.len()]
+}
+
+fn register_entities(engine: &mut Engine, state: &SharedState) {
+    engine.register_type_with_name::<EntityHandle>("entity");
+    let s = state.clone();
+    engine.register_fn("entity", move |name: ImmutableString| -> ScriptResult<EntityHandle> {
+        let index = find(&s.lock(), &name)?;
+        Ok(EntityHandle { state: s.clone(), index })
+    });
+    let s = state.clone();
+    engine.register_fn("has_entity", move |name: ImmutableString| s.lock().index_of(&name).is_some());
+    let s = state.clone();
+    engine.register_fn("entity_names", move || -> Array {
+        s.lock().entities.iter().map(|e| Dynamic::from(e.name.clone())).collect()
+    });
+    engine.register_fn("to_string", |e: &mut EntityHandle| format!("entity(\"{}\")", e.name()));
+    engine.register_get("name", |e: &mut EntityHandle| e.name());
+    engine.register_get("centre", |e: &mut EntityHandle| e.state.lock().entities[e.index].centre());
+
+    engine.register_get("position", |e: &mut EntityHandle| e.state.lock().entities[e.index].position);
+    engine.register_set("position", |e: &mut EntityHandle, v: DVec3| -> ScriptResult<()> {
+        e.write(|entry| {
+            if let EntityKind::Light { positioned: false } = entry.kind {
+                return error(format!("entity `{}` is a directional light: it has no position", entry.name));
+            }
+            entry.position = finite_vec(v, &format!("entity `{}`: position", entry.name))?;
+            entry.transform_dirty = true;
+            Ok(())
+        })
+    });
+    engine.register_get("rotation", |e: &mut EntityHandle| -> ScriptResult<DVec3> {
+        e.read(|entry| object(entry, "rotation").map(|_| entry.rotation_deg))
+    });
+    engine.register_set("rotation", |e: &mut EntityHandle, v: DVec3| -> ScriptResult<()> {
+        e.write(|entry| {
+            object(entry, "rotation")?;
+            entry.rotation_deg = finite_vec(v, &format!("entity `{}`: rotation", entry.name))?;
+            entry.rotation_written = true;
+            entry.transform_dirty = true;
+            Ok(())
+        })
+    });
+    engine.register_get("scale", |e: &mut EntityHandle| -> ScriptResult<DVec3> {
+        e.read(|entry| object(entry, "scale").map(|_| entry.scale))
+    });
+    engine.register_set("scale", |e: &mut EntityHandle, v: Dynamic| -> ScriptResult<()> {
+        e.write(|entry| {
+            let uniform = object(entry, "scale")?;
+            let what = format!("entity `{}`: scale", entry.name);
+            let v = match v.clone().try_cast::<DVec3>() {
+                Some(v) => finite_vec(v, &what)?,
+                None => DVec3::splat(finite(&v, &what)?),
+            };
+            if v.cmpeq(DVec3::ZERO).any() {
+                return error(format!("{what} must be non-zero on every axis, got {v}"));
+            }
+            let m = v.abs();
+            if uniform && m.max_element() - m.min_element() > 1e-5 * m.max_element() {
+                return error(format!("{what} must be uniform for a sphere (|x| = |y| = |z|), got {v}"));
+            }
+            entry.scale = v;
+            entry.transform_dirty = true;
+            Ok(())
+        })
+    });
+    engine.register_get("visible", |e: &mut EntityHandle| e.state.lock().entities[e.index].visible);
+    engine.register_set("visible", |e: &mut EntityHandle, v: bool| -> ScriptResult<()> {
+        e.write(|entry| {
+            entry.visible = v;
+            entry.visible_dirty = true;
+            Ok(())
+        })
+    });
+
+    engine.register_get("kd", |e: &mut EntityHandle| -> ScriptResult<DVec3> {
+        e.read(|entry| material(entry).map(|m| m.kd))
+    });
+    engine.register_set("kd", |e: &mut EntityHandle, v: DVec3| -> ScriptResult<()> {
+        e.write_material("kd", |m| m.kd = v, |d| d.kd = v.as_vec3())
+    });
+    macro_rules! scalar_material {
+        ($name:literal, $field:ident) => {
+            engine.register_get($name, |e: &mut EntityHandle| -> ScriptResult<FLOAT> {
+                e.read(|entry| material(entry).map(|m| m.$field))
+            });
+            engine.register_set($name, |e: &mut EntityHandle, v: Dynamic| -> ScriptResult<()> {
+                let v = finite(&v, $name)?;
+                e.write_material($name, |m| m.$field = v, |d| d.$field = v as f32)
+            });
+        };
+    }
+    scalar_material!("ks", ks);
+    scalar_material!("shininess", shininess);
+    scalar_material!("kr", kr);
+    scalar_material!("kt", kt);
+    scalar_material!("ior", ior);
+    scalar_material!("glossiness", glossiness);
+}
+
+/// Objects only: errors for lights; says whether the object takes only uniform scales.
+fn object(entry: &EntityState, property: &str) -> ScriptResult<bool> {
+    match entry.kind {
+        EntityKind::Object { uniform_scale, .. } => Ok(uniform_scale),
+        EntityKind::Light { .. } => {
+            error(format!("entity `{}` is a light: it has no {property}", entry.name))
+        }
+    }
+}
+
+/// The object's material parameters, or an error for lights.
+fn material(entry: &EntityState) -> ScriptResult<&MaterialParams> {
+    match &entry.material {
+        Some(m) => Ok(&m.params),
+        None => error(format!("entity `{}` is a light: it has no material", entry.name)),
+    }
+}
+
+/// The material the scene format checks one field on: defaults everywhere else.
+fn default_material_desc() -> MaterialDesc {
+    MaterialDesc {
+        name: "script".into(),
+        kd: glam::Vec3::splat(0.5),
+        ks: 0.0,
+        shininess: 32.0,
+        kr: 0.0,
+        kt: 0.0,
+        ior: 1.5,
+        glossiness: 0.0,
+    }
+}
+
+/// An entity's material as the scene format describes it, for whole-material checks.
+pub fn material_desc(entry: &EntityState) -> Option<MaterialDesc> {
+    entry.material.map(|m| {
+        let m = m.params.to_material();
+        MaterialDesc {
+            name: entry.name.clone(),
+            kd: m.kd,
+            ks: m.ks,
+            shininess: m.shininess,
+            kr: m.kr,
+            kt: m.kt,
+            ior: m.ior,
+            glossiness: m.glossiness,
+        }
+    })
+}
+
+impl EntityHandle {
+    fn name(&self) -> String {
+        self.state.lock().entities[self.index].name.clone()
+    }
+
+    fn read<T>(&self, f: impl FnOnce(&EntityState) -> ScriptResult<T>) -> ScriptResult<T> {
+        f(&self.state.lock().entities[self.index])
+    }
+
+    fn write(&self, f: impl FnOnce(&mut EntityState) -> ScriptResult<()>) -> ScriptResult<()> {
+        f(&mut self.state.lock().entities[self.index])
+    }
+
+    /// Sets one material field after checking it against the scene format's rule for it.
+    fn write_material(
+        &self,
+        field: &str,
+        set: impl FnOnce(&mut MaterialParams),
+        check: impl FnOnce(&mut MaterialDesc),
+    ) -> ScriptResult<()> {
+        self.write(|entry| {
+            material(entry)?;
+            let mut desc = default_material_desc();
+            check(&mut desc);
+            if let Some(v) = validate::material_violation(&desc) {
+                return error(format!("entity `{}`: {field} {}", entry.name, v.rule));
+            }
+            if let Some(m) = entry.material.as_mut() {
+                set(&mut m.params);
+                entry.material_dirty = true;
+            }
+            Ok(())
+        })
+    }
+}
+
+fn register_settings(engine: &mut Engine) {
+    engine.register_type_with_name::<SettingsHandle>("settings");
+    engine.register_fn("to_string", |_: &mut SettingsHandle| "settings".to_string());
+
+    macro_rules! count_property {
+        ($name:literal, $field:ident, $lo:expr, $hi:expr) => {
+            engine.register_get($name, |h: &mut SettingsHandle| h.0.lock().settings.$field as INT);
+            engine.register_set($name, |h: &mut SettingsHandle, v: Dynamic| -> ScriptResult<()> {
+                let what = concat!("settings.", $name);
+                let n = integer(&v, what)?;
+                if !($lo..=$hi).contains(&n) {
+                    return error(format!("{what} must be in {}..={}, got {n}", $lo, $hi));
+                }
+                let mut s = h.0.lock();
+                s.settings.$field = n as _;
+                s.settings_dirty = true;
+                Ok(())
+            });
+        };
+    }
+    count_property!("samples", samples, 1, MAX_SAMPLES as INT);
+    count_property!("lens_samples", lens_samples, 1, MAX_SAMPLES as INT);
+    count_property!("glossy_samples", glossy_samples, 1, MAX_SAMPLES as INT);
+    count_property!("max_depth", max_depth, 0, MAX_DEPTH as INT);
+    count_property!("width", width, 1, MAX_IMAGE_SIZE as INT);
+    count_property!("height", height, 1, MAX_IMAGE_SIZE as INT);
+    count_property!("seed", seed, 0, INT::MAX);
+
+    engine.register_get("adaptive", |h: &mut SettingsHandle| match h.0.lock().settings.adaptive {
+        Some((threshold, _)) => Dynamic::from_float(threshold),
+        None => Dynamic::UNIT,
+    });
+    engine.register_set("adaptive", |h: &mut SettingsHandle, v: Dynamic| -> ScriptResult<()> {
+        let mut s = h.0.lock();
+        s.settings.adaptive = match v.is_unit() {
+            true => None,
+            false => {
+                let threshold = finite(&v, "settings.adaptive")?;
+                if threshold < 0.0 {
+                    return error(format!("settings.adaptive must be >= 0 (or () for off), got {threshold}"));
+                }
+                let depth = s.settings.adaptive.map_or(3, |(_, d)| d);
+                Some((threshold, depth))
+            }
+        };
+        s.settings_dirty = true;
+        Ok(())
+    });
+    engine.register_get("adaptive_depth", |h: &mut SettingsHandle| match h.0.lock().settings.adaptive {
+        Some((_, depth)) => Dynamic::from_int(depth as INT),
+        None => Dynamic::UNIT,
+    });
+    engine.register_set("adaptive_depth", |h: &mut SettingsHandle, v: Dynamic| -> ScriptResult<()> {
+        let depth = integer(&v, "settings.adaptive_depth")?;
+        if !(1..=MAX_ADAPTIVE_DEPTH as INT).contains(&depth) {
+            return error(format!(
+                "settings.adaptive_depth must be in 1..={MAX_ADAPTIVE_DEPTH}, got {depth}"
+            ));
+        }
+        let mut s = h.0.lock();
+        let Some((threshold, _)) = s.settings.adaptive else {
+            return error(
+                "settings.adaptive_depth: adaptive supersampling is off; set settings.adaptive first",
+            );
+        };
+        s.settings.adaptive = Some((threshold, depth as u32));
+        s.settings_dirty = true;
+        Ok(())
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::edit_distance;
+
+    #[test]
+    fn edit_distance_counts_insertions_deletions_and_substitutions() {
+        assert_eq!(edit_distance("ball", "ball"), 0);
+        assert_eq!(edit_distance("bal", "ball"), 1);
+        assert_eq!(edit_distance("red_bal", "red_ball"), 1);
+        assert_eq!(edit_distance("kitten", "sitting"), 3);
+        assert_eq!(edit_distance("", "abc"), 3);
+    }
+}

@@ -1,0 +1,174 @@
+//! The sandboxed Rhai engine: the language's core packages without clocks, sleeping or
+//! module loading, and limits on everything a script could grow without bound.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use rhai::debugger::{DebuggerCommand, DebuggerEvent};
+use rhai::module_resolvers::DummyModuleResolver;
+use rhai::packages::{
+    BasicArrayPackage, BasicMapPackage, BasicMathPackage, BitFieldPackage, CorePackage, LogicPackage,
+    MoreStringPackage, Package,
+};
+use rhai::{ASTNode, Dynamic, Engine, OptimizationLevel, Position, FLOAT, INT};
+
+use super::api::convert::{error, ScriptResult};
+
+/// What a script may use. The defaults leave room for any animation script and stop a
+/// runaway one within a second or two.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Limits {
+    /// Operations per host call (`setup`, one `frame`, `sweep`), including the top level.
+    pub max_operations: u64,
+    /// Nested function calls.
+    pub max_call_levels: usize,
+    /// Expression nesting at the top level.
+    pub max_expr_depth: usize,
+    /// Expression nesting inside functions.
+    pub max_function_expr_depth: usize,
+    /// Bytes in one string.
+    pub max_string_size: usize,
+    /// Elements in one array.
+    pub max_array_size: usize,
+    /// Entries in one object map.
+    pub max_map_size: usize,
+    /// Variables alive at once.
+    pub max_variables: usize,
+    /// Functions a script may define.
+    pub max_functions: usize,
+    /// Wall-clock time per host call.
+    pub time_limit: Duration,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Self {
+            max_operations: 5_000_000,
+            max_call_levels: 48,
+            max_expr_depth: 64,
+            max_function_expr_depth: 48,
+            max_string_size: 64 * 1024,
+            max_array_size: 100_000,
+            max_map_size: 10_000,
+            max_variables: 10_000,
+            max_functions: 512,
+            time_limit: Duration::from_secs(30),
+        }
+    }
+}
+
+/// What the engine's callbacks watch during a host call: the wall-clock deadline, and the
+/// position of the statement being run.
+///
+/// Rhai reports a broken limit at the outermost call, not where it happened (it unwinds
+/// limit errors through every call level), so the engine's debugger hook records each
+/// statement's position as it starts and the error is located there instead.
+#[derive(Debug, Clone)]
+pub struct Watch {
+    origin: Instant,
+    /// Deadline in nanoseconds since `origin`; `u64::MAX` when no call is running.
+    deadline: Arc<AtomicU64>,
+    limit: Duration,
+    /// Line (high 32 bits) and column of the statement running; 0 before the first.
+    statement: Arc<AtomicU64>,
+}
+
+impl Watch {
+    fn new(limit: Duration) -> Self {
+        Self {
+            origin: Instant::now(),
+            deadline: Arc::new(AtomicU64::new(u64::MAX)),
+            limit,
+            statement: Arc::new(AtomicU64::new(0)),
+        }
+    }
+
+    /// Starts watching a host call: its clock and its statements.
+    pub fn start(&self) {
+        let at = self.origin.elapsed().saturating_add(self.limit).as_nanos();
+        self.deadline.store(u64::try_from(at).unwrap_or(u64::MAX), Ordering::Relaxed);
+        self.statement.store(0, Ordering::Relaxed);
+    }
+
+    fn passed(&self) -> bool {
+        self.origin.elapsed().as_nanos() > self.deadline.load(Ordering::Relaxed) as u128
+    }
+
+    fn enter(&self, position: Position) {
+        if let (Some(line), Some(column)) = (position.line(), position.position()) {
+            self.statement.store(((line as u64) << 32) | column as u64, Ordering::Relaxed);
+        }
+    }
+
+    /// The position of the statement that was running last, if any ran.
+    pub fn statement(&self) -> Position {
+        match self.statement.load(Ordering::Relaxed) {
+            0 => Position::NONE,
+            v => Position::new((v >> 32) as u16, (v & 0xffff_ffff) as u16),
+        }
+    }
+}
+
+/// How often (in operations) the progress callback looks at the clock.
+const CLOCK_EVERY: u64 = 1 << 14;
+
+/// A sandboxed engine with `limits`; `file` names the script in `print` and `debug` output,
+/// which goes to standard error.
+pub fn sandboxed(limits: &Limits, file: &str) -> (Engine, Watch) {
+    let mut engine = Engine::new_raw();
+    // The standard library minus the time package (clocks make frames irreproducible) and
+    // blobs (no use here).
+    CorePackage::new().register_into_engine(&mut engine);
+    BitFieldPackage::new().register_into_engine(&mut engine);
+    LogicPackage::new().register_into_engine(&mut engine);
+    BasicMathPackage::new().register_into_engine(&mut engine);
+    BasicArrayPackage::new().register_into_engine(&mut engine);
+    BasicMapPackage::new().register_into_engine(&mut engine);
+    MoreStringPackage::new().register_into_engine(&mut engine);
+    engine.set_optimization_level(OptimizationLevel::Simple);
+
+    engine.set_max_operations(limits.max_operations);
+    engine.set_max_call_levels(limits.max_call_levels);
+    engine.set_max_expr_depths(limits.max_expr_depth, limits.max_function_expr_depth);
+    engine.set_max_string_size(limits.max_string_size);
+    engine.set_max_array_size(limits.max_array_size);
+    engine.set_max_map_size(limits.max_map_size);
+    engine.set_max_variables(limits.max_variables);
+    engine.set_max_functions(limits.max_functions);
+
+    // No files: `import` finds nothing, `eval` is off; `sleep` would stall past the progress
+    // callback's clock.
+    engine.set_module_resolver(DummyModuleResolver::new());
+    engine.disable_symbol("eval");
+    engine.register_fn("sleep", |_: INT| -> ScriptResult<()> { error("sleep is not available in scripts") });
+    engine
+        .register_fn("sleep", |_: FLOAT| -> ScriptResult<()> { error("sleep is not available in scripts") });
+
+    let watch = Watch::new(limits.time_limit);
+    let clock = watch.clone();
+    engine.on_progress(move |ops| match ops % CLOCK_EVERY == 0 && clock.passed() {
+        true => Some(Dynamic::from("time limit")),
+        false => None,
+    });
+    let statements = watch.clone();
+    // The debugger interface is marked volatile, not deprecated.
+    #[allow(deprecated)]
+    engine.register_debugger(
+        |_, debugger| debugger,
+        move |_, event, node, _, position| {
+            if let (DebuggerEvent::Step, ASTNode::Stmt(_)) = (event, node) {
+                statements.enter(position);
+            }
+            Ok(DebuggerCommand::StepInto)
+        },
+    );
+    let name = file.to_owned();
+    engine.on_print(move |text| eprintln!("{name}: {text}"));
+    let name = file.to_owned();
+    engine.on_debug(move |text, _, pos| match (pos.line(), pos.position()) {
+        (Some(line), Some(column)) => eprintln!("{name}:{line}:{column}: {text}"),
+        _ => eprintln!("{name}: {text}"),
+    });
+    (engine, watch)
+}

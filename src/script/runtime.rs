@@ -1,0 +1,269 @@
+//! A compiled [`Script`] attached to a scene World: the engine lives in a World resource,
+//! the script's writes reach the components through the World's input system.
+//!
+//! The host calls `setup()` once and `frame(t)` per frame. Before each call the script's top
+//! level runs again (Rhai functions see no outer variables; top-level `const`s are read inside
+//! functions as `global::NAME`), so a frame depends only on the World and `t`, never on
+//! script variables left over from earlier frames.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use bevy_ecs::prelude::Resource;
+use rhai::{Array, CallFnOptions, Dynamic, Engine, FuncArgs, Map, Scope, AST};
+
+use super::api;
+use super::engine::{sandboxed, Limits, Watch};
+use super::error::{ErrorKind, ScriptError};
+use super::state::{apply_script_writes, Clock, ScriptState, SharedState};
+use crate::scene::validate;
+use crate::store::{PrimitiveStore, SoaStore};
+use crate::trace::TraceScene;
+use crate::world::SceneWorld;
+
+/// A parsed script, ready to attach to any number of Worlds.
+#[derive(Clone)]
+pub struct Script {
+    file: String,
+    source: Arc<str>,
+    ast: AST,
+    limits: Limits,
+}
+
+impl Script {
+    /// Reads and compiles the script at `path`.
+    pub fn load(path: &Path, limits: Limits) -> Result<Self, ScriptError> {
+        let file = path.display().to_string();
+        let source = std::fs::read_to_string(path)
+            .map_err(|e| ScriptError::new(&file, ErrorKind::Read, e.to_string()))?;
+        Self::from_source(&file, &source, limits)
+    }
+
+    /// Compiles `source`; `file` names it in errors.
+    pub fn from_source(file: &str, source: &str, limits: Limits) -> Result<Self, ScriptError> {
+        let (engine, _) = sandboxed(&limits, file);
+        let ast = engine.compile(source).map_err(|e| ScriptError::from_parse(file, &e, &limits))?;
+        Ok(Self { file: file.to_owned(), source: source.into(), ast, limits })
+    }
+
+    /// The file name errors use.
+    pub fn file(&self) -> &str {
+        &self.file
+    }
+
+    /// The script's text (hashed into frame metadata).
+    pub fn source(&self) -> &str {
+        &self.source
+    }
+
+    /// The sandbox limits.
+    pub fn limits(&self) -> &Limits {
+        &self.limits
+    }
+
+    /// True when the script defines `fn name` with `arity` parameters.
+    pub fn defines(&self, name: &str, arity: usize) -> bool {
+        self.ast.iter_functions().any(|f| f.name == name && f.params.len() == arity)
+    }
+
+    /// An error unless the script defines `fn name` with `arity` parameters.
+    pub fn require(&self, name: &str, arity: usize, purpose: &str) -> Result<(), ScriptError> {
+        match self.defines(name, arity) {
+            true => Ok(()),
+            false => {
+                let params = ["", "t", "a, b"][arity.min(2)];
+                let message = format!("the script defines no `fn {name}({params})`, which {purpose}");
+                Err(ScriptError::new(&self.file, ErrorKind::MissingFunction, message))
+            }
+        }
+    }
+}
+
+/// The engine and script of a World, as a resource.
+#[derive(Resource)]
+pub struct ScriptRuntime {
+    engine: Engine,
+    script: Script,
+    watch: Watch,
+    state: SharedState,
+}
+
+impl ScriptRuntime {
+    /// Calls `fn name(args)`, the top level first, under the sandbox's limits.
+    fn call(&self, name: &str, args: impl FuncArgs, context: &str) -> Result<Dynamic, ScriptError> {
+        self.watch.start();
+        let options = CallFnOptions::new().eval_ast(true).rewind_scope(true);
+        let result = self.engine.call_fn_with_options::<Dynamic>(
+            options,
+            &mut Scope::new(),
+            &self.script.ast,
+            name,
+            args,
+        );
+        let result = result.map_err(|e| self.error(&e).in_call(context))?;
+        self.check(context)?;
+        Ok(result)
+    }
+
+    /// Runs a statement of the host's with `value` in scope (sweep parameters).
+    fn run_with_value(&self, code: &str, value: Dynamic) -> Result<(), Box<rhai::EvalAltResult>> {
+        self.watch.start();
+        let mut scope = Scope::new();
+        scope.push("value", value);
+        self.engine.run_with_scope(&mut scope, code)
+    }
+
+    fn error(&self, e: &rhai::EvalAltResult) -> ScriptError {
+        ScriptError::from_eval(&self.script.file, e, &self.script.limits, self.watch.statement())
+    }
+
+    /// The rules that span several fields (camera pose, `kr + kt`), checked once a call has
+    /// made all its writes.
+    fn check(&self, context: &str) -> Result<(), ScriptError> {
+        let state = self.state.lock();
+        let fail = |message: String| {
+            Err(ScriptError::new(&self.script.file, ErrorKind::Runtime, message).in_call(context))
+        };
+        if state.camera_dirty {
+            if let Some(v) = validate::camera_violation(&api::scene::camera_desc(&state)) {
+                return fail(format!("camera.{}: {}", v.path, v.rule));
+            }
+        }
+        for entry in state.entities.iter().filter(|e| e.material_dirty) {
+            if let Some(v) = api::scene::material_desc(entry).and_then(|d| validate::material_violation(&d)) {
+                return fail(format!("entity `{}`: {}: {}", entry.name, v.path, v.rule));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A scene World driven by a script.
+pub struct ScriptedWorld<S: PrimitiveStore + 'static = SoaStore> {
+    world: SceneWorld<S>,
+}
+
+impl<S: PrimitiveStore + 'static> ScriptedWorld<S> {
+    /// Attaches `script` to `world`: mirrors the World for the script, builds the sandboxed
+    /// engine with the API, and adds the system that applies the script's writes.
+    pub fn new(mut world: SceneWorld<S>, script: &Script) -> Self {
+        let state = SharedState(Arc::new(std::sync::Mutex::new(ScriptState::from_world(world.world_mut()))));
+        let (mut engine, watch) = sandboxed(&script.limits, &script.file);
+        api::register(&mut engine, &state);
+        world.world_mut().insert_resource(state.clone());
+        world.world_mut().insert_resource(ScriptRuntime { engine, script: script.clone(), watch, state });
+        world.add_input_system(apply_script_writes);
+        Self { world }
+    }
+
+    fn runtime(&self) -> &ScriptRuntime {
+        self.world.world().resource::<ScriptRuntime>()
+    }
+
+    fn state(&self) -> SharedState {
+        self.runtime().state.clone()
+    }
+
+    /// Runs `fn setup()` if the script defines it (and the top level either way).
+    pub fn setup(&mut self) -> Result<(), ScriptError> {
+        let rt = self.runtime();
+        match rt.script.defines("setup", 0) {
+            true => rt.call("setup", (), "setup()").map(|_| ()),
+            false => {
+                rt.watch.start();
+                let mut scope = Scope::new();
+                let result = rt.engine.run_ast_with_scope(&mut scope, &rt.script.ast);
+                result.map_err(|e| rt.error(&e).in_call("the top level"))?;
+                rt.check("the top level")
+            }
+        }
+    }
+
+    /// Runs `fn frame(t)` for the frame `clock` describes; the next [`Self::update`] applies
+    /// its writes.
+    pub fn frame(&mut self, clock: Clock) -> Result<(), ScriptError> {
+        self.state().lock().clock = clock;
+        let context = format!("frame({}) at frame {}", clock.time, clock.frame);
+        self.runtime().call("frame", (clock.time,), &context).map(|_| ())
+    }
+
+    /// The parameter sets `fn sweep()` declares: an array of object maps.
+    pub fn sweep_sets(&mut self) -> Result<Vec<Map>, ScriptError> {
+        let rt = self.runtime();
+        let sets = rt.call("sweep", (), "sweep()")?;
+        let file = &rt.script.file;
+        let fail =
+            |message: String| Err(ScriptError::new(file, ErrorKind::Runtime, message).in_call("sweep()"));
+        let Some(sets) = sets.try_cast::<Array>() else {
+            return fail("sweep() must return an array of object maps, e.g. [#{ aperture: 0.1 }]".into());
+        };
+        if sets.is_empty() {
+            return fail("sweep() returned no parameter sets".into());
+        }
+        let mut maps = Vec::with_capacity(sets.len());
+        for (i, set) in sets.into_iter().enumerate() {
+            match set.try_cast::<Map>() {
+                Some(map) => maps.push(map),
+                None => {
+                    return fail(format!("sweep() element {i} is not an object map like #{{ samples: 4 }}"))
+                }
+            }
+        }
+        Ok(maps)
+    }
+
+    /// Applies one parameter set: through `fn apply(p)` when the script defines it, else
+    /// each key as the camera or settings property of that name (`aperture`, `samples`, …).
+    pub fn apply(&mut self, params: &Map, index: usize) -> Result<(), ScriptError> {
+        let rt = self.runtime();
+        let context = format!("parameter set {index}");
+        if rt.script.defines("apply", 1) {
+            return rt.call("apply", (Dynamic::from_map(params.clone()),), &context).map(|_| ());
+        }
+        for (key, value) in params {
+            let code = match key.as_str() {
+                "focus_on" => "camera.focus_on(value);".to_owned(),
+                k if api::scene::CAMERA_PROPERTIES.contains(&k) => format!("camera.{k} = value;"),
+                k if api::scene::SETTINGS_PROPERTIES.contains(&k) => format!("settings.{k} = value;"),
+                k => {
+                    let known =
+                        [api::scene::CAMERA_PROPERTIES, api::scene::SETTINGS_PROPERTIES, &["focus_on"]]
+                            .concat()
+                            .join(", ");
+                    let message = format!(
+                        "unknown parameter `{k}`; define `fn apply(p)` to use it, or use one of: {known}"
+                    );
+                    return Err(
+                        ScriptError::new(&rt.script.file, ErrorKind::Runtime, message).in_call(context)
+                    );
+                }
+            };
+            rt.run_with_value(&code, value.clone()).map_err(|e| {
+                let mut e = rt.error(&e).in_call(format!("{context}, `{key}`"));
+                (e.line, e.column) = (None, None);
+                e
+            })?;
+        }
+        rt.check(&context)
+    }
+
+    /// Applies the script's writes and runs the frame schedule; returns the snapshot.
+    pub fn update(&mut self) -> Arc<TraceScene<S>> {
+        self.world.update()
+    }
+
+    /// The World.
+    pub fn world(&self) -> &SceneWorld<S> {
+        &self.world
+    }
+
+    /// The World, mutably.
+    pub fn world_mut(&mut self) -> &mut SceneWorld<S> {
+        &mut self.world
+    }
+
+    /// A copy of the script's current view of the scene.
+    pub fn state_snapshot(&self) -> ScriptState {
+        self.state().lock().clone()
+    }
+}

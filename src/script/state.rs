@@ -1,0 +1,555 @@
+//! The script's view of the World: a plain-data mirror of the camera, the render settings
+//! and every named entity, with a record of what the script wrote.
+//!
+//! The mirror is taken from the World once, when the script is attached; from then on the
+//! script is the only writer, so reads come from the mirror and writes are exact (a value set
+//! is the value got back). [`apply_script_writes`] moves only what the script wrote into the
+//! World, through `set_if_neq`, so an entity the script did not touch, or set to the value it
+//! already had, triggers no change detection and no grid rebuild.
+
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+
+use bevy_ecs::prelude::{DetectChangesMut, Entity, Mut, Query, Res, ResMut, Resource, World};
+use glam::{DVec3, EulerRot, Quat, Vec3};
+
+use crate::geom;
+use crate::math::Affine3A;
+use crate::sample::adaptive::AdaptiveSettings;
+use crate::store::MaterialId;
+use crate::trace::{self, Material};
+use crate::world::components::{Light, MaterialRef, Name, Shape, Transform, Visible};
+use crate::world::resources::{CameraRig, Focus, Materials, SceneSettings};
+
+/// The mirror, shared between the engine's API functions and the World's input system.
+#[derive(Resource, Clone, Default)]
+pub struct SharedState(pub Arc<Mutex<ScriptState>>);
+
+impl SharedState {
+    /// Locks the mirror. API functions never panic while holding it, so a poisoned lock
+    /// still holds consistent data.
+    pub fn lock(&self) -> MutexGuard<'_, ScriptState> {
+        self.0.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+}
+
+/// Everything a script reads and writes.
+#[derive(Debug, Clone, Default)]
+pub struct ScriptState {
+    /// The camera.
+    pub camera: CameraState,
+    /// Render settings.
+    pub settings: SettingsState,
+    /// Named entities in spawn order.
+    pub entities: Vec<EntityState>,
+    /// Index of each entity by name.
+    pub by_name: HashMap<String, usize>,
+    /// The frame being made.
+    pub clock: Clock,
+    /// The camera was written since the last apply.
+    pub camera_dirty: bool,
+    /// The settings were written since the last apply.
+    pub settings_dirty: bool,
+}
+
+/// The frame being made: its number, time in seconds and the frame rate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Clock {
+    /// Frame number.
+    pub frame: u32,
+    /// Seconds since frame 0: `frame / fps`.
+    pub time: f64,
+    /// Frames per second.
+    pub fps: f64,
+}
+
+impl Default for Clock {
+    fn default() -> Self {
+        Self { frame: 0, time: 0.0, fps: 24.0 }
+    }
+}
+
+impl Clock {
+    /// Frame `frame` at `fps` frames per second.
+    pub fn at(frame: u32, fps: f64) -> Self {
+        Self { frame, time: frame as f64 / fps, fps }
+    }
+}
+
+/// The camera as a script sees it (angles in degrees).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraState {
+    /// Eye position.
+    pub position: DVec3,
+    /// Point looked at.
+    pub look_at: DVec3,
+    /// Up direction.
+    pub up: DVec3,
+    /// Vertical field of view in degrees.
+    pub fov_deg: f64,
+    /// Lens radius.
+    pub aperture: f64,
+    /// What is kept sharp.
+    pub focus: FocusState,
+}
+
+impl Default for CameraState {
+    fn default() -> Self {
+        Self {
+            position: DVec3::ZERO,
+            look_at: DVec3::Z,
+            up: DVec3::Y,
+            fov_deg: 45.0,
+            aperture: 0.0,
+            focus: FocusState::LookAt,
+        }
+    }
+}
+
+/// What the camera keeps sharp.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FocusState {
+    /// The plane through the look-at point.
+    LookAt,
+    /// The plane at this distance along the view direction.
+    Distance(f64),
+    /// The plane through this point.
+    Point(DVec3),
+    /// The plane through this entity's centre, wherever it moves (`focus_on`).
+    Entity(usize),
+}
+
+/// Render settings a script can change.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SettingsState {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Anti-aliasing samples per pixel.
+    pub samples: u32,
+    /// Lens samples per camera sample.
+    pub lens_samples: u32,
+    /// Rays per glossy reflection or blurry refraction.
+    pub glossy_samples: u32,
+    /// Adaptive supersampling: (threshold, deepest level), or off.
+    pub adaptive: Option<(f64, u32)>,
+    /// Maximum reflection/refraction depth.
+    pub max_depth: u32,
+    /// Seed of all randomness.
+    pub seed: u64,
+}
+
+/// What kind of entity a name refers to, as far as scripts care.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum EntityKind {
+    /// A renderable object; `pivot` is its object-space centre (the centre of its bounds, or
+    /// a plane's point), which the transform carries to the world.
+    Object {
+        /// Object-space centre.
+        pivot: DVec3,
+        /// Spheres accept only uniform scales.
+        uniform_scale: bool,
+    },
+    /// A light source; directional lights have no position.
+    Light {
+        /// Point and area lights can be moved; directional lights cannot.
+        positioned: bool,
+    },
+}
+
+/// One named entity as a script sees it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EntityState {
+    /// The World's entity.
+    pub entity: Entity,
+    /// Its scene name.
+    pub name: String,
+    /// Object or light.
+    pub kind: EntityKind,
+    /// Translation (objects) or position (point lights; the centre of area lights).
+    pub position: DVec3,
+    /// Rotation about X, then Y, then Z, in degrees (objects).
+    pub rotation_deg: DVec3,
+    /// Per-axis scale (objects).
+    pub scale: DVec3,
+    /// Whether it takes part in the frame.
+    pub visible: bool,
+    /// Its material parameters (objects).
+    pub material: Option<MaterialState>,
+    /// Position or scale written since the last apply.
+    pub transform_dirty: bool,
+    /// Rotation written at least once (until then the World's rotation is kept as is).
+    pub rotation_written: bool,
+    /// Visibility written since the last apply.
+    pub visible_dirty: bool,
+    /// Material written since the last apply.
+    pub material_dirty: bool,
+}
+
+/// An object's material parameters, and its private copy once a script has changed them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MaterialState {
+    /// Current parameters (f64, as the script wrote them).
+    pub params: MaterialParams,
+    /// The entity's own material id, made on the first write so that other objects sharing
+    /// the scene material keep theirs.
+    pub private: Option<MaterialId>,
+}
+
+/// Phong parameters in script precision.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MaterialParams {
+    /// Diffuse reflectance.
+    pub kd: DVec3,
+    /// Specular reflectance.
+    pub ks: f64,
+    /// Phong exponent.
+    pub shininess: f64,
+    /// Mirror reflectance.
+    pub kr: f64,
+    /// Transmittance.
+    pub kt: f64,
+    /// Index of refraction.
+    pub ior: f64,
+    /// Blur of reflection and refraction.
+    pub glossiness: f64,
+}
+
+impl From<&Material> for MaterialParams {
+    fn from(m: &Material) -> Self {
+        Self {
+            kd: m.kd.as_dvec3(),
+            ks: m.ks as f64,
+            shininess: m.shininess as f64,
+            kr: m.kr as f64,
+            kt: m.kt as f64,
+            ior: m.ior as f64,
+            glossiness: m.glossiness as f64,
+        }
+    }
+}
+
+impl MaterialParams {
+    /// The engine material.
+    pub fn to_material(&self) -> Material {
+        Material {
+            kd: self.kd.as_vec3(),
+            ks: self.ks as f32,
+            shininess: self.shininess as f32,
+            kr: self.kr as f32,
+            kt: self.kt as f32,
+            ior: self.ior as f32,
+            glossiness: self.glossiness as f32,
+        }
+    }
+}
+
+impl EntityState {
+    /// World-space centre: the object's pivot under its transform, or a light's position.
+    pub fn centre(&self) -> DVec3 {
+        match self.kind {
+            EntityKind::Object { pivot, .. } => {
+                let rotation = rotation_from_degrees(self.rotation_deg).as_dquat();
+                self.position + rotation * (self.scale * pivot)
+            }
+            EntityKind::Light { .. } => self.position,
+        }
+    }
+}
+
+/// The rotation of the scene convention: about X, then Y, then Z, by angles in degrees.
+pub fn rotation_from_degrees(deg: DVec3) -> Quat {
+    Transform::from_scene(Vec3::ZERO, deg.as_vec3(), Vec3::ONE).rotation
+}
+
+/// Angles in degrees (about X, then Y, then Z) of a rotation; the inverse of
+/// [`rotation_from_degrees`] up to rounding.
+pub fn degrees_from_rotation(q: Quat) -> DVec3 {
+    let (z, y, x) = q.to_euler(EulerRot::ZYX);
+    DVec3::new(x as f64, y as f64, z as f64) * (180.0 / std::f64::consts::PI)
+}
+
+/// The light's position as scripts see it (`None` for directional lights).
+fn light_position(light: &trace::Light) -> Option<Vec3> {
+    match *light {
+        trace::Light::Point { position, .. } => Some(position),
+        trace::Light::Rect { corner, edge_u, edge_v, .. } => Some(corner + 0.5 * (edge_u + edge_v)),
+        trace::Light::Disk { centre, .. } => Some(centre),
+        trace::Light::Directional { .. } => None,
+    }
+}
+
+/// The light moved so that its position (as [`light_position`] defines it) is `to`.
+fn moved_light(light: &trace::Light, to: Vec3) -> trace::Light {
+    let mut moved = *light;
+    match &mut moved {
+        trace::Light::Point { position, .. } => *position = to,
+        trace::Light::Rect { corner, edge_u, edge_v, .. } => *corner = to - 0.5 * (*edge_u + *edge_v),
+        trace::Light::Disk { centre, .. } => *centre = to,
+        trace::Light::Directional { .. } => {}
+    }
+    moved
+}
+
+impl ScriptState {
+    /// The mirror of a World holding a spawned scene.
+    pub fn from_world(world: &mut World) -> Self {
+        let rig = *world.resource::<CameraRig>();
+        let s = *world.resource::<SceneSettings>();
+        let materials = world.resource::<Materials>().table.clone();
+        let mut state = ScriptState {
+            camera: CameraState {
+                position: rig.position.as_dvec3(),
+                look_at: rig.look_at.as_dvec3(),
+                up: rig.up.as_dvec3(),
+                fov_deg: (rig.fov_y as f64).to_degrees(),
+                aperture: rig.aperture as f64,
+                focus: match rig.focus {
+                    Focus::LookAt => FocusState::LookAt,
+                    Focus::Distance(d) => FocusState::Distance(d as f64),
+                    Focus::Point(p) => FocusState::Point(p.as_dvec3()),
+                },
+            },
+            settings: SettingsState {
+                width: s.width,
+                height: s.height,
+                samples: s.aa.sampling.samples,
+                lens_samples: s.lens.samples,
+                glossy_samples: s.glossy.samples,
+                adaptive: s.adaptive.map(|a| (a.threshold as f64, a.max_depth)),
+                max_depth: s.max_depth,
+                seed: s.seed,
+            },
+            ..Default::default()
+        };
+
+        let mut named: Vec<(Entity, String)> =
+            world.query::<(Entity, &Name)>().iter(world).map(|(e, n)| (e, n.as_str().to_owned())).collect();
+        named.sort_unstable_by_key(|(e, _)| *e);
+        for (entity, name) in named {
+            let e = world.entity(entity);
+            let visible = e.get::<Visible>().is_none_or(|v| v.0);
+            let mut entry = EntityState {
+                entity,
+                name: name.clone(),
+                kind: EntityKind::Light { positioned: false },
+                position: DVec3::ZERO,
+                rotation_deg: DVec3::ZERO,
+                scale: DVec3::ONE,
+                visible,
+                material: None,
+                transform_dirty: false,
+                rotation_written: false,
+                visible_dirty: false,
+                material_dirty: false,
+            };
+            if let (Some(shape), Some(t)) = (e.get::<Shape>(), e.get::<Transform>()) {
+                let pivot = match &shape.0 {
+                    geom::Shape::Plane { point, .. } => point.as_dvec3(),
+                    other => other
+                        .place(&Affine3A::IDENTITY)
+                        .bounds()
+                        .map_or(DVec3::ZERO, |b| (0.5 * (b.min + b.max)).as_dvec3()),
+                };
+                let uniform_scale = matches!(shape.0, geom::Shape::Sphere { .. });
+                entry.kind = EntityKind::Object { pivot, uniform_scale };
+                entry.position = t.translation.as_dvec3();
+                entry.rotation_deg = degrees_from_rotation(t.rotation);
+                entry.scale = t.scale.as_dvec3();
+                entry.material = e
+                    .get::<MaterialRef>()
+                    .and_then(|m| materials.get(m.0 .0 as usize))
+                    .map(|m| MaterialState { params: MaterialParams::from(m), private: None });
+            } else if let Some(light) = e.get::<Light>() {
+                let position = light_position(&light.0);
+                entry.kind = EntityKind::Light { positioned: position.is_some() };
+                entry.position = position.map_or(DVec3::ZERO, Vec3::as_dvec3);
+            } else {
+                continue;
+            }
+            state.by_name.insert(name, state.entities.len());
+            state.entities.push(entry);
+        }
+        state
+    }
+
+    /// The entity called `name`.
+    pub fn index_of(&self, name: &str) -> Option<usize> {
+        self.by_name.get(name).copied()
+    }
+
+    /// The camera focus distance along the view direction, resolved as the renderer will.
+    pub fn focus_distance(&self) -> f64 {
+        let c = &self.camera;
+        let forward = (c.look_at - c.position).normalize_or_zero();
+        match c.focus {
+            FocusState::LookAt => (c.look_at - c.position).length(),
+            FocusState::Distance(d) => d,
+            FocusState::Point(p) => (p - c.position).dot(forward),
+            FocusState::Entity(i) => (self.entities[i].centre() - c.position).dot(forward),
+        }
+    }
+
+    /// The camera rig the mirror describes; a focus entity is resolved to its current centre.
+    fn rig(&self) -> CameraRig {
+        let c = &self.camera;
+        CameraRig {
+            position: c.position.as_vec3(),
+            look_at: c.look_at.as_vec3(),
+            up: c.up.as_vec3(),
+            fov_y: (c.fov_deg as f32).to_radians(),
+            aperture: c.aperture as f32,
+            focus: match c.focus {
+                FocusState::LookAt => Focus::LookAt,
+                FocusState::Distance(d) => Focus::Distance(d as f32),
+                FocusState::Point(p) => Focus::Point(p.as_vec3()),
+                FocusState::Entity(i) => Focus::Point(self.entities[i].centre().as_vec3()),
+            },
+        }
+    }
+
+    /// True when the focus follows an entity (its motion moves the focal plane).
+    fn focus_follows_entity(&self) -> bool {
+        matches!(self.camera.focus, FocusState::Entity(_))
+    }
+}
+
+/// The World's input system: moves the script's writes into components and resources with
+/// `set_if_neq`, then clears the record of writes.
+#[allow(clippy::type_complexity)]
+pub fn apply_script_writes(
+    shared: Res<SharedState>,
+    mut objects: Query<(
+        Option<&mut Transform>,
+        Option<&mut Visible>,
+        Option<&mut MaterialRef>,
+        Option<&mut Light>,
+    )>,
+    mut materials: ResMut<Materials>,
+    mut rig: ResMut<CameraRig>,
+    mut settings: ResMut<SceneSettings>,
+) {
+    let mut state = shared.lock();
+    if state.camera_dirty || state.focus_follows_entity() {
+        rig.set_if_neq(state.rig());
+    }
+    if state.settings_dirty {
+        let s = state.settings;
+        let mut next = *settings;
+        next.width = s.width;
+        next.height = s.height;
+        next.aa.sampling.samples = s.samples;
+        next.lens.samples = s.lens_samples;
+        next.glossy.samples = s.glossy_samples;
+        next.adaptive = s
+            .adaptive
+            .map(|(threshold, max_depth)| AdaptiveSettings { threshold: threshold as f32, max_depth });
+        next.max_depth = s.max_depth;
+        next.seed = s.seed;
+        settings.set_if_neq(next);
+    }
+    let frame = state.clock.frame;
+    if settings.frame != frame {
+        settings.frame = frame;
+    }
+    state.camera_dirty = false;
+    state.settings_dirty = false;
+
+    for entry in state.entities.iter_mut() {
+        if !(entry.transform_dirty || entry.visible_dirty || entry.material_dirty) {
+            continue;
+        }
+        let Ok((transform, visible, material_ref, light)) = objects.get_mut(entry.entity) else {
+            continue;
+        };
+        if entry.transform_dirty {
+            if let Some(mut transform) = transform {
+                let rotation = match entry.rotation_written {
+                    true => rotation_from_degrees(entry.rotation_deg),
+                    false => transform.rotation,
+                };
+                transform.set_if_neq(Transform {
+                    translation: entry.position.as_vec3(),
+                    rotation,
+                    scale: entry.scale.as_vec3(),
+                });
+            } else if let Some(mut light) = light {
+                let moved = moved_light(&light.0, entry.position.as_vec3());
+                light.set_if_neq(Light(moved));
+            }
+        }
+        if entry.visible_dirty {
+            if let Some(mut visible) = visible {
+                visible.set_if_neq(Visible(entry.visible));
+            }
+        }
+        if let (true, Some(material_ref), Some(m)) =
+            (entry.material_dirty, material_ref, entry.material.as_mut())
+        {
+            apply_material(&entry.name, m, material_ref, &mut materials);
+        }
+        entry.transform_dirty = false;
+        entry.visible_dirty = false;
+        entry.material_dirty = false;
+    }
+}
+
+/// Writes an entity's material parameters: into its private copy, made on the first write
+/// that differs from the shared scene material.
+fn apply_material(
+    name: &str,
+    m: &mut MaterialState,
+    mut material_ref: Mut<MaterialRef>,
+    materials: &mut Materials,
+) {
+    let wanted = m.params.to_material();
+    let id = match m.private {
+        Some(id) => id,
+        // Unchanged from the shared material: keep sharing it.
+        None if materials.table.get(material_ref.0 .0 as usize) == Some(&wanted) => return,
+        None => {
+            let id = MaterialId(materials.table.len() as u32);
+            materials.table.push(wanted);
+            materials.names.push(format!("{name}#script"));
+            m.private = Some(id);
+            id
+        }
+    };
+    material_ref.set_if_neq(MaterialRef(id));
+    if materials.table[id.0 as usize] != wanted {
+        materials.table[id.0 as usize] = wanted;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn degrees_round_trip_through_the_scene_rotation() {
+        for deg in
+            [DVec3::new(10.0, -35.0, 80.0), DVec3::new(0.0, 90.0 - 1e-3, 0.0), DVec3::new(-170.0, 5.0, 12.0)]
+        {
+            let q = rotation_from_degrees(deg);
+            let back = degrees_from_rotation(q);
+            assert!(rotation_from_degrees(back).angle_between(q) < 1e-5, "{deg} -> {back}");
+            assert!((back - deg).abs().max_element() < 1e-3, "{deg} -> {back}");
+        }
+    }
+
+    #[test]
+    fn an_area_light_moves_by_its_centre() {
+        let rect = trace::Light::Rect {
+            corner: Vec3::ZERO,
+            edge_u: Vec3::X * 2.0,
+            edge_v: Vec3::Z,
+            radiance: Vec3::ONE,
+            samples: 4,
+            pattern: crate::sample::Pattern::Grid,
+        };
+        assert_eq!(light_position(&rect), Some(Vec3::new(1.0, 0.0, 0.5)));
+        let moved = moved_light(&rect, Vec3::new(5.0, 3.0, 0.5));
+        assert_eq!(light_position(&moved), Some(Vec3::new(5.0, 3.0, 0.5)));
+    }
+}
