@@ -15,6 +15,8 @@ fn main() -> ExitCode {
         Some(Command::Render(args)) => cli::render::run(&args, &cli::meta::replay_tokens(&argv)),
         None => cli::render::run(&cli::render::RenderArgs::default_scene(), &[]),
         Some(Command::Info(args)) => cli::info::run(&args),
+        Some(Command::Animate(args)) => cli::animate::run(&args, &argv),
+        Some(Command::Sweep(args)) => cli::sweep::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

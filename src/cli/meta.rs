@@ -14,8 +14,11 @@ pub const SCENE: &str = "penumbra.scene";
 pub const SCENE_HASH: &str = "penumbra.scene.sha256";
 /// SHA-256 of the script's bytes, or `none`.
 pub const SCRIPT_HASH: &str = "penumbra.script.sha256";
-/// Render arguments that reproduce the image, as a JSON array of strings.
+/// Render arguments that reproduce the image, as a JSON array of strings; a frame of an
+/// animation starts with `animate`.
 pub const ARGS: &str = "penumbra.args";
+/// The script file as given on the command line.
+pub const SCRIPT: &str = "penumbra.script";
 
 /// Hex SHA-256 of `bytes`.
 pub fn sha256_hex(bytes: &[u8]) -> String {
@@ -43,6 +46,35 @@ pub fn describe(
     m.set("penumbra.tonemap", format!("{tone:?}"));
     m.set(ARGS, serde_json::Value::from(replay.to_vec()).to_string());
     m
+}
+
+/// Records the script an animation frame was made with: its path and SHA-256.
+pub fn add_script(m: &mut Metadata, path: &std::path::Path, source: &[u8]) {
+    m.set(SCRIPT, path.display().to_string());
+    m.set(SCRIPT_HASH, sha256_hex(source));
+}
+
+/// The arguments that make frame `frame` of an `animate` command line again: `animate`, then
+/// everything that determines the image, with `--frames` narrowed to the one frame.
+pub fn animate_replay(argv: &[String], frame: u32) -> Vec<String> {
+    let mut tokens = argv.iter().skip(1).skip_while(|t| t.as_str() != "animate").skip(1);
+    let mut kept = vec!["animate".to_owned()];
+    let with_value = ["-o", "--output", "--threads", "--video", "--frames"];
+    while let Some(t) = tokens.next() {
+        let flag = t.split_once('=').map_or(t.as_str(), |(f, _)| f);
+        if t == "--quiet" || (t.starts_with("-o") && t.len() > 2 && !t.starts_with("--")) {
+            continue;
+        }
+        if with_value.contains(&flag) {
+            if !t.contains('=') {
+                tokens.next();
+            }
+            continue;
+        }
+        kept.push(t.clone());
+    }
+    kept.extend(["--frames".to_owned(), frame.to_string()]);
+    kept
 }
 
 /// The render arguments of a command line that determine the image: everything after the
@@ -99,6 +131,34 @@ mod tests {
             replay_tokens(&strings(&["penumbra", "render", "-ox.png", "--output=y.exr"])),
             Vec::<String>::new()
         );
+    }
+
+    #[test]
+    fn animate_replay_keeps_what_makes_the_frame_and_narrows_the_range() {
+        let argv = strings(&[
+            "penumbra",
+            "animate",
+            "s.ron",
+            "f.rhai",
+            "--frames",
+            "0..=119",
+            "--fps",
+            "24",
+            "-o",
+            "out",
+            "--video",
+            "v.mp4",
+            "--quiet",
+            "--threads=2",
+            "--width",
+            "64",
+        ]);
+        assert_eq!(
+            animate_replay(&argv, 17),
+            strings(&["animate", "s.ron", "f.rhai", "--fps", "24", "--width", "64", "--frames", "17"])
+        );
+        let argv = strings(&["penumbra", "animate", "--frames=3..5", "s.ron", "f.rhai", "-ofr"]);
+        assert_eq!(animate_replay(&argv, 4), strings(&["animate", "s.ron", "f.rhai", "--frames", "4"]));
     }
 
     #[test]

@@ -1,9 +1,11 @@
-//! The command line (clap): `render` (the default) and `info`. Only the binary uses this
+//! The command line (clap): `render` (the default), `animate`, `sweep` and `info`. Only the binary uses this
 //! module; everything it calls is the library's public API.
 
+pub mod animate;
 pub mod info;
 pub mod meta;
 pub mod render;
+pub mod sweep;
 
 use clap::{Parser, Subcommand};
 
@@ -23,4 +25,9 @@ pub enum Command {
     Render(render::RenderArgs),
     /// Print how an image was made; `--rerender` makes it again.
     Info(info::InfoArgs),
+    /// Render a frame sequence driven by a Rhai script (`fn frame(t)`).
+    Animate(animate::AnimateArgs),
+    /// Render one image per parameter set a Rhai script declares (`fn sweep()`), with a table
+    /// of render times and ray counts.
+    Sweep(sweep::SweepArgs),
 }

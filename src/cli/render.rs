@@ -23,6 +23,17 @@ pub struct RenderArgs {
     /// Output image: `.png` (8-bit sRGB, tone-mapped) or `.exr` (linear half float); see `--format`.
     #[arg(short, long, default_value = "penumbra.png")]
     pub output: PathBuf,
+    /// Print detailed statistics and write them as JSON to this file.
+    #[arg(long, value_name = "STATS.json")]
+    stats: Option<PathBuf>,
+    /// How to render and encode the image.
+    #[command(flatten)]
+    pub frame: FrameArgs,
+}
+
+/// The options every rendering command shares: image size, threads, sampling, encoding.
+#[derive(Args, Debug, Default, Clone)]
+pub struct FrameArgs {
     /// Image width in pixels (overrides the scene; alone, the height keeps the scene's aspect).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
     width: Option<u32>,
@@ -31,10 +42,7 @@ pub struct RenderArgs {
     height: Option<u32>,
     /// Worker threads (default: one per core).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
-    threads: Option<u32>,
-    /// Print detailed statistics and write them as JSON to this file.
-    #[arg(long, value_name = "STATS.json")]
-    stats: Option<PathBuf>,
+    pub threads: Option<u32>,
     /// Sample count of an effect, e.g. `--samples aa=16` (aa, lens, shadow, glossy; repeatable).
     #[arg(long, value_name = "EFFECT=N", value_parser = parse_samples)]
     samples: Vec<(Effect, u32)>,
@@ -52,11 +60,11 @@ pub struct RenderArgs {
     aperture: Option<f32>,
     /// Output encoding (default: from the extension): png8, png16, exr-half, exr-float.
     #[arg(long, value_name = "FORMAT")]
-    format: Option<OutputFormat>,
+    pub format: Option<OutputFormat>,
     /// AOVs to write beside the image (EXR: layers of the same file; PNG: `NAME.AOV.png`):
     /// any of depth, normal, albedo, object, cost, comma-separated.
     #[arg(long, value_name = "LIST", value_parser = AovSet::parse)]
-    aov: Option<AovSet>,
+    pub aov: Option<AovSet>,
     /// Tone-mapping operator of PNG output: clamp, reinhard or aces (overrides the scene).
     #[arg(long, value_name = "OPERATOR", value_parser = parse_operator)]
     tonemap: Option<ToneOperator>,
@@ -70,7 +78,7 @@ pub struct RenderArgs {
 
 /// An effect whose sampling the command line can set.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Effect {
+pub enum Effect {
     Aa,
     Lens,
     Shadow,
@@ -171,22 +179,13 @@ pub fn run(args: &RenderArgs, replay: &[String]) -> anyhow::Result<()> {
         }
         None => (scene::default_scene(), DEFAULT_SCENE_SOURCE.as_bytes().to_vec()),
     };
-    apply_size(&mut desc, args.width, args.height);
-    apply_effects(&mut desc, args);
-    let format = match args.format {
-        Some(f) => f,
-        None => OutputFormat::from_path(&args.output).with_context(|| {
-            format!("{}: unknown output extension; use .png or .exr, or --format", args.output.display())
-        })?,
-    };
-    let tone = tone_mapping(&desc, args);
+    args.frame.apply(&mut desc);
+    let format = args.frame.format_for(&args.output)?;
+    let tone = args.frame.tone_mapping(&desc);
     let load = started.elapsed().as_secs_f64();
 
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0) as usize)
-        .build()
-        .context("cannot start worker threads")?;
-    let wanted = args.aov.unwrap_or_default();
+    let pool = args.frame.thread_pool()?;
+    let wanted = args.frame.aov.unwrap_or_default();
     let (film, aovs, mut stats, settings) = pool.install(|| {
         let started = Instant::now();
         let mut world: SceneWorld = scene::spawn_world(&desc);
@@ -211,13 +210,47 @@ pub fn run(args: &RenderArgs, replay: &[String]) -> anyhow::Result<()> {
     report(&stats, &written, aovs.as_ref().map(|a| a.object_names.as_slice()), args.stats.as_deref())
 }
 
-/// The scene's tone mapping with the command line's overrides.
-fn tone_mapping(desc: &SceneDesc, args: &RenderArgs) -> ToneMapping {
-    let t = &desc.settings.tonemap;
-    ToneMapping {
-        operator: args.tonemap.unwrap_or(t.operator),
-        exposure: args.exposure.unwrap_or(t.exposure),
-        white: args.white.unwrap_or(t.white),
+/// Prints a line to stdout; a closed stdout (`penumbra ... | head`) is not an error.
+pub fn say(text: &str) -> anyhow::Result<()> {
+    match writeln!(std::io::stdout().lock(), "{text}") {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e).context("cannot write to stdout"),
+        _ => Ok(()),
+    }
+}
+
+impl FrameArgs {
+    /// Applies the size and sampling overrides to the scene.
+    pub fn apply(&self, desc: &mut SceneDesc) {
+        apply_size(desc, self.width, self.height);
+        apply_effects(desc, self);
+    }
+
+    /// The encoding of `output`: `--format`, else from its extension.
+    pub fn format_for(&self, output: &Path) -> anyhow::Result<OutputFormat> {
+        match self.format {
+            Some(f) => Ok(f),
+            None => OutputFormat::from_path(output).with_context(|| {
+                format!("{}: unknown output extension; use .png or .exr, or --format", output.display())
+            }),
+        }
+    }
+
+    /// The scene's tone mapping with the command line's overrides.
+    pub fn tone_mapping(&self, desc: &SceneDesc) -> ToneMapping {
+        let t = &desc.settings.tonemap;
+        ToneMapping {
+            operator: self.tonemap.unwrap_or(t.operator),
+            exposure: self.exposure.unwrap_or(t.exposure),
+            white: self.white.unwrap_or(t.white),
+        }
+    }
+
+    /// A rayon pool of `--threads` workers (default: one per core).
+    pub fn thread_pool(&self) -> anyhow::Result<rayon::ThreadPool> {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(self.threads.unwrap_or(0) as usize)
+            .build()
+            .context("cannot start worker threads")
     }
 }
 
@@ -234,7 +267,7 @@ pub fn apply_size(desc: &mut SceneDesc, width: Option<u32>, height: Option<u32>)
 }
 
 /// Applies the sampling overrides of the command line to the scene.
-fn apply_effects(desc: &mut SceneDesc, args: &RenderArgs) {
+fn apply_effects(desc: &mut SceneDesc, args: &FrameArgs) {
     for &(effect, n) in &args.samples {
         match effect {
             Effect::Aa => desc.settings.aa.samples = n,
@@ -303,9 +336,5 @@ fn report(
             stats.mrays_per_s()
         ),
     };
-    // The files are written; a closed stdout (`penumbra ... | head`) is not an error.
-    match writeln!(std::io::stdout().lock(), "{text}") {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e).context("cannot write to stdout"),
-        _ => Ok(()),
-    }
+    say(&text)
 }
