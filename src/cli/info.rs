@@ -5,11 +5,11 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Context};
 use clap::{Args, Parser};
 
-use penumbra::film::read_metadata;
+use penumbra::film::{read_metadata, Metadata};
 use penumbra::scene::{DEFAULT_SCENE_ORIGIN, DEFAULT_SCENE_SOURCE};
 
 use super::meta::{self, sha256_hex};
-use super::render;
+use super::{animate, render};
 
 /// Arguments of `penumbra info`.
 #[derive(Args, Debug)]
@@ -55,6 +55,9 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
     let replay: Vec<String> = serde_json::from_str(field(meta::ARGS)?).with_context(|| {
         format!("{}: `{}` is not a JSON list of strings", args.image.display(), meta::ARGS)
     })?;
+    if replay.first().is_some_and(|a| a == "animate") {
+        return rerender_frame(&args.image, &metadata, &replay, out);
+    }
     let argv = ["penumbra", "render"]
         .into_iter()
         .map(String::from)
@@ -65,4 +68,45 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
         Some(super::Command::Render(render_args)) => render::run(&render_args, &replay),
         _ => bail!("the recorded arguments do not describe a render"),
     }
+}
+
+/// Makes a frame of an animation again: checks the script is unchanged, runs the recorded
+/// `animate` arguments (one frame) into a scratch folder beside `out` and moves the frame there.
+fn rerender_frame(image: &Path, metadata: &Metadata, replay: &[String], out: &Path) -> anyhow::Result<()> {
+    let field =
+        |key: &str| metadata.get(key).with_context(|| format!("{}: metadata lacks `{key}`", image.display()));
+    let script = field(meta::SCRIPT)?;
+    let source = std::fs::read(script)
+        .with_context(|| format!("{script}: cannot read the script the frame was made with"))?;
+    let (recorded, current) = (field(meta::SCRIPT_HASH)?, sha256_hex(&source));
+    if current != recorded {
+        bail!(
+            "{script}: the script changed since {} was made (sha256 {current}, recorded {recorded})",
+            image.display()
+        );
+    }
+    let parent = out.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let scratch = tempfile::Builder::new()
+        .prefix(".penumbra-rerender-")
+        .tempdir_in(parent)
+        .with_context(|| format!("{}: cannot make a scratch folder", parent.display()))?;
+    let argv: Vec<String> = ["penumbra"]
+        .into_iter()
+        .map(String::from)
+        .chain(replay.iter().cloned())
+        .chain(["--quiet".into(), "-o".into(), scratch.path().display().to_string()])
+        .collect();
+    let cli = super::Cli::try_parse_from(&argv).context("the recorded arguments no longer parse")?;
+    let Some(super::Command::Animate(animate_args)) = cli.command else {
+        bail!("the recorded arguments do not describe an animation");
+    };
+    animate::run(&animate_args, &argv)?;
+    let frame = std::fs::read_dir(scratch.path())?
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .find(|p| p.file_name().is_some_and(|n| n.to_string_lossy().starts_with("frame_")))
+        .context("the animation wrote no frame")?;
+    std::fs::rename(&frame, out).with_context(|| format!("cannot move the frame to {}", out.display()))?;
+    println!("wrote {}", out.display());
+    Ok(())
 }

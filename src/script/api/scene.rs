@@ -44,7 +44,6 @@ pub struct EntityHandle {
 #[derive(Clone)]
 pub struct SettingsHandle(SharedState);
 
-
 /// Registers the scene API over `state`.
 pub fn register(engine: &mut Engine, state: &SharedState) {
     // Global variables, visible inside functions too (script functions see no outer
