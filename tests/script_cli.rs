@@ -201,3 +201,22 @@ fn info_rerenders_a_frame_of_an_animation_byte_for_byte() {
     assert_eq!(original, again);
     assert_eq!(files(dir.path()), ["again.png", "frames"], "the scratch folder is gone");
 }
+
+#[test]
+fn the_readme_example_script_animates_and_sweeps() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let start = readme.find("```rhai\n").expect("README has a rhai example") + "```rhai\n".len();
+    let example = &readme[start..start + readme[start..].find("```").unwrap()];
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("example.rhai"), example).unwrap();
+    let scene = root().join("scenes/flythrough.ron");
+    let scene = scene.to_str().unwrap();
+    let animate =
+        [&["animate", scene, "example.rhai", "--frames", "0..=1", "-o", "frames"][..], &SMALL].concat();
+    let out = run(dir.path(), &animate, None);
+    assert!(out.status.success(), "{}", text(&out));
+    let sweep = [&["sweep", scene, "example.rhai", "-o", "sweep", "--quiet"][..], &SMALL].concat();
+    let out = run(dir.path(), &sweep, None);
+    assert!(out.status.success(), "{}", text(&out));
+    assert_eq!(files(&dir.path().join("sweep")).len(), 9 + 2);
+}
