@@ -239,6 +239,27 @@ pub struct MaterialDesc {
     pub glossiness: f32,
 }
 
+impl MaterialDesc {
+    /// The engine material these parameters describe.
+    pub fn material(&self) -> crate::trace::Material {
+        crate::trace::Material {
+            kd: self.kd,
+            ks: self.ks,
+            shininess: self.shininess,
+            kr: self.kr,
+            kt: self.kt,
+            ior: self.ior,
+            glossiness: self.glossiness,
+        }
+    }
+
+    /// The description of an engine material, under `name`.
+    pub fn describe(name: &str, m: &crate::trace::Material) -> Self {
+        let crate::trace::Material { kd, ks, shininess, kr, kt, ior, glossiness } = *m;
+        Self { name: name.to_owned(), kd, ks, shininess, kr, kt, ior, glossiness }
+    }
+}
+
 /// A light source.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]

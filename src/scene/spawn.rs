@@ -3,13 +3,13 @@
 
 use bevy_ecs::prelude::World;
 
-use super::format::{LightDesc, SamplingDesc, SceneDesc, ShapeDesc};
+use super::format::{LightDesc, MaterialDesc, SamplingDesc, SceneDesc, ShapeDesc};
 use crate::accel::DEFAULT_LAMBDA;
 use crate::geom;
 use crate::sample::adaptive::AdaptiveSettings;
 use crate::sample::warp::orthonormal_basis;
 use crate::store::{MaterialId, PrimitiveStore};
-use crate::trace::{self, AntiAliasing, Material, Sampling};
+use crate::trace::{self, AntiAliasing, Sampling};
 use crate::world::components::{Light, MaterialRef, Name, Shape, Transform, Visible, WorldAabb, WorldShape};
 use crate::world::resources::{CameraRig, Focus, Materials, SceneSettings};
 use crate::world::SceneWorld;
@@ -18,19 +18,7 @@ use crate::world::SceneWorld;
 pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<S> {
     let mut world = World::new();
     let materials = Materials {
-        table: desc
-            .materials
-            .iter()
-            .map(|m| Material {
-                kd: m.kd,
-                ks: m.ks,
-                shininess: m.shininess,
-                kr: m.kr,
-                kt: m.kt,
-                ior: m.ior,
-                glossiness: m.glossiness,
-            })
-            .collect(),
+        table: desc.materials.iter().map(MaterialDesc::material).collect(),
         names: desc.materials.iter().map(|m| m.name.clone()).collect(),
     };
     let c = &desc.camera;

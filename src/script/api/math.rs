@@ -264,27 +264,8 @@ pub fn ease(name: &str, t: f64) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::script::api::testing::{eval, eval_err};
     use rhai::FLOAT;
-
-    fn engine() -> Engine {
-        let mut engine = Engine::new();
-        register(&mut engine);
-        engine
-    }
-
-    fn eval<T: Clone + Send + Sync + 'static>(script: &str) -> T {
-        match engine().eval::<T>(script) {
-            Ok(value) => value,
-            Err(e) => panic!("{script}: {e}"),
-        }
-    }
-
-    fn eval_err(script: &str) -> String {
-        match engine().eval::<Dynamic>(script) {
-            Ok(value) => panic!("{script} should fail, gave {value:?}"),
-            Err(e) => e.to_string(),
-        }
-    }
 
     fn v(x: f64, y: f64, z: f64) -> DVec3 {
         DVec3::new(x, y, z)

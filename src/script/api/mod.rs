@@ -19,3 +19,34 @@ pub fn register(engine: &mut Engine, state: &SharedState) {
     sweep::register(engine);
     scene::register(engine, state);
 }
+
+/// An engine with the scene-free API (math, paths, sweeps) and evaluation helpers for tests.
+#[cfg(test)]
+pub(crate) mod testing {
+    use rhai::{Dynamic, Engine};
+
+    /// A plain engine with the scene-free API registered.
+    pub fn engine() -> Engine {
+        let mut engine = Engine::new();
+        super::math::register(&mut engine);
+        super::path::register(&mut engine);
+        super::sweep::register(&mut engine);
+        engine
+    }
+
+    /// The value of `script`; panics with the error otherwise.
+    pub fn eval<T: Clone + Send + Sync + 'static>(script: &str) -> T {
+        match engine().eval::<T>(script) {
+            Ok(value) => value,
+            Err(e) => panic!("{script}: {e}"),
+        }
+    }
+
+    /// The error text of `script`; panics if it succeeds.
+    pub fn eval_err(script: &str) -> String {
+        match engine().eval::<Dynamic>(script) {
+            Ok(value) => panic!("{script} should fail, gave {value:?}"),
+            Err(e) => e.to_string(),
+        }
+    }
+}

@@ -289,6 +289,7 @@ pub fn register(engine: &mut Engine) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::script::api::testing::{eval, eval_err};
     use rhai::FLOAT;
 
     fn v(x: f64, y: f64, z: f64) -> DVec3 {
@@ -304,27 +305,6 @@ mod tests {
             v(6.0, 1.0, -1.0),
             v(5.0, 4.0, 0.0),
         ]
-    }
-
-    fn engine() -> Engine {
-        let mut engine = Engine::new();
-        super::super::math::register(&mut engine);
-        register(&mut engine);
-        engine
-    }
-
-    fn eval<T: Clone + Send + Sync + 'static>(script: &str) -> T {
-        match engine().eval::<T>(script) {
-            Ok(value) => value,
-            Err(e) => panic!("{script}: {e}"),
-        }
-    }
-
-    fn eval_err(script: &str) -> String {
-        match engine().eval::<Dynamic>(script) {
-            Ok(value) => panic!("{script} should fail, gave {value:?}"),
-            Err(e) => e.to_string(),
-        }
     }
 
     /// The centripetal segment in Hermite form (independent of the Barry–Goldman pyramid).

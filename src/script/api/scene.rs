@@ -337,33 +337,12 @@ fn material(entry: &EntityState) -> ScriptResult<&MaterialParams> {
 
 /// The material the scene format checks one field on: defaults everywhere else.
 fn default_material_desc() -> MaterialDesc {
-    MaterialDesc {
-        name: "script".into(),
-        kd: glam::Vec3::splat(0.5),
-        ks: 0.0,
-        shininess: 32.0,
-        kr: 0.0,
-        kt: 0.0,
-        ior: 1.5,
-        glossiness: 0.0,
-    }
+    MaterialDesc::describe("script", &crate::trace::Material::default())
 }
 
 /// An entity's material as the scene format describes it, for whole-material checks.
 pub fn material_desc(entry: &EntityState) -> Option<MaterialDesc> {
-    entry.material.map(|m| {
-        let m = m.params.to_material();
-        MaterialDesc {
-            name: entry.name.clone(),
-            kd: m.kd,
-            ks: m.ks,
-            shininess: m.shininess,
-            kr: m.kr,
-            kt: m.kt,
-            ior: m.ior,
-            glossiness: m.glossiness,
-        }
-    })
+    entry.material.map(|m| MaterialDesc::describe(&entry.name, &m.params.to_material()))
 }
 
 impl EntityHandle {
