@@ -6,6 +6,7 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 pub mod accel;
+pub mod batch;
 pub mod camera;
 pub mod film;
 pub mod geom;

@@ -17,6 +17,7 @@ fn main() -> ExitCode {
         Some(Command::Info(args)) => cli::info::run(&args),
         Some(Command::Animate(args)) => cli::animate::run(&args, &argv),
         Some(Command::Sweep(args)) => cli::sweep::run(&args),
+        Some(Command::Status(args)) => cli::status::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,5 +1,6 @@
-//! `penumbra animate SCENE SCRIPT --frames A..=B --fps N -o DIR [--video OUT.mp4]`: a frame
-//! sequence driven by a Rhai script, optionally encoded to a video with ffmpeg.
+//! `penumbra animate SCENE SCRIPT --frames A..=B --fps N -o DIR [--shard I/N] [--video OUT.mp4]`:
+//! a frame sequence driven by a Rhai script, resumable and split into shards for job arrays,
+//! optionally encoded to a video with ffmpeg.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -8,13 +9,17 @@ use std::time::Instant;
 use anyhow::{bail, Context};
 use clap::Args;
 
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use penumbra::batch::manifest::frame_digits;
+use penumbra::batch::{self, FrameEntry, FrameState, JobSpec, Manifest, Shard, Split};
 use penumbra::film::{write_image, OutputFormat};
 use penumbra::scene::{self, SceneDesc};
 use penumbra::script::{Animation, FrameRange, Limits, Script};
-use penumbra::trace::render_with_aovs;
+use penumbra::trace::render_observed;
 
-use super::meta;
 use super::render::{say, FrameArgs};
+use super::{interrupt, meta};
 
 /// Arguments of `penumbra animate`.
 #[derive(Args, Debug)]
@@ -32,10 +37,24 @@ pub struct AnimateArgs {
     /// Folder for the frames, `frame_0000.png` and so on (created if missing).
     #[arg(short, long, default_value = "frames")]
     pub output: PathBuf,
+    /// Render only shard INDEX of COUNT (0-based, e.g. `2/4`). Default: from the job
+    /// scheduler's environment (Slurm array or Kubernetes Indexed Job), else the whole range.
+    #[arg(long, value_name = "INDEX/COUNT")]
+    pub shard: Option<Shard>,
+    /// How the range is split among shards: contiguous blocks or interleaved frames.
+    #[arg(long, default_value_t = Split::Contiguous, value_name = "SPLIT")]
+    pub split: Split,
+    /// Shard count for a Kubernetes Indexed Job (`JOB_COMPLETION_INDEX` gives the index);
+    /// default: `PENUMBRA_SHARD_COUNT`.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub shard_count: Option<u32>,
+    /// Render every frame of the shard again, even those already done.
+    #[arg(long)]
+    pub force: bool,
     /// Also encode the frames to this video with ffmpeg (which must be on PATH).
     #[arg(long, value_name = "OUT.mp4")]
     pub video: Option<PathBuf>,
-    /// Print nothing but errors.
+    /// No progress bars or per-frame lines; errors only (for batch logs).
     #[arg(long)]
     pub quiet: bool,
     /// How to render and encode each frame.
@@ -50,22 +69,21 @@ fn parse_fps(s: &str) -> Result<f64, String> {
     }
 }
 
-/// The file of frame `n` in `dir`: `frame_0042.png`, with at least four digits and as many
-/// as the range's last frame needs.
-pub fn frame_path(dir: &Path, frames: FrameRange, n: u32, extension: &str) -> PathBuf {
-    let digits = frame_digits(frames);
-    dir.join(format!("frame_{n:0digits$}.{extension}"))
-}
-
-fn frame_digits(frames: FrameRange) -> usize {
-    frames.last.to_string().len().max(4)
-}
-
 fn extension(format: OutputFormat) -> &'static str {
     match format {
         OutputFormat::Png8 | OutputFormat::Png16 => "png",
         OutputFormat::ExrHalf | OutputFormat::ExrFloat => "exr",
     }
+}
+
+/// The host name, for the manifest.
+fn host() -> String {
+    std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .map(|h| h.trim().to_owned())
+        .ok()
+        .or_else(|| std::env::var("HOSTNAME").ok())
+        .or_else(|| std::env::var("COMPUTERNAME").ok())
+        .unwrap_or_else(|| "unknown".into())
 }
 
 /// Renders the frames as `args` say; `argv` is the whole command line (for frame metadata).
@@ -75,61 +93,175 @@ pub fn run(args: &AnimateArgs, argv: &[String]) -> anyhow::Result<()> {
         std::fs::read(&args.scene).with_context(|| format!("{}: cannot read scene", args.scene.display()))?;
     args.frame.apply(&mut desc);
     let script = Script::load(&args.script, Limits::default())?;
+    script.require("frame", 1, "`animate` calls once per frame with the time in seconds")?;
     let format = args.frame.format.unwrap_or(OutputFormat::Png8);
     let tone = args.frame.tone_mapping(&desc);
+
+    let shard = match args.shard {
+        Some(shard) => shard,
+        None => Shard::from_env(|k| std::env::var(k).ok(), args.shard_count)
+            .map_err(|e| anyhow::anyhow!("cannot tell this task's shard: {e}"))?
+            .unwrap_or(Shard::ALL),
+    };
+    if args.video.is_some() && shard.count > 1 {
+        bail!("--video needs every frame; encode after all {} shards have finished", shard.count);
+    }
     let ffmpeg = match &args.video {
         Some(video) => Some(find_ffmpeg(video, format)?),
         None => None,
     };
+
+    let absolute =
+        |p: &Path| std::fs::canonicalize(p).with_context(|| format!("{}: cannot resolve", p.display()));
+    let job = JobSpec {
+        version: env!("CARGO_PKG_VERSION").to_owned(),
+        scene: absolute(&args.scene)?,
+        script: absolute(&args.script)?,
+        frames: args.frames,
+        fps: args.fps,
+        options: args.frame.fingerprint(),
+        extension: extension(format).to_owned(),
+    };
     std::fs::create_dir_all(&args.output)
         .with_context(|| format!("{}: cannot create the frames folder", args.output.display()))?;
+    let manifest = Manifest::create(&args.output)?;
+    manifest.write_job(&job)?;
 
-    let pool = args.frame.thread_pool()?;
-    let wanted = args.frame.aov.unwrap_or_default();
-    let origin = args.scene.display().to_string();
-    let started = Instant::now();
-    pool.install(|| -> anyhow::Result<()> {
-        let mut animation: Animation = Animation::new(&desc, &script, args.fps)?;
-        for n in args.frames.iter() {
-            let frame_started = Instant::now();
-            let rebuilds = animation.world().world().grid_rebuilds();
-            let snapshot = animation.step_to(n)?;
-            let rebuilt = animation.world().world().grid_rebuilds() > rebuilds;
-            let settings = animation.world().world().render_settings();
-            let (film, aovs, mut stats) = render_with_aovs(&snapshot, &settings, wanted);
-            (stats.times.script, stats.times.world_update) = animation.last_timing();
-            let replay = meta::animate_replay(argv, n);
-            let mut metadata = meta::describe(&origin, &scene_source, &settings, &tone, &replay);
-            meta::add_script(&mut metadata, &args.script, script.source().as_bytes());
-            let path = frame_path(&args.output, args.frames, n, extension(format));
-            write_image(&film, aovs.as_ref(), &path, format, &tone, &metadata)?;
-            if !args.quiet {
-                say(&format!(
+    let mine = shard.frames(args.frames, args.split);
+    let mut todo = Vec::new();
+    for &n in &mine {
+        let inputs = job.inputs_hash(&scene_source, script.source().as_bytes(), n);
+        if args.force || manifest.frame_state(&job, n, &inputs)? != FrameState::Done {
+            todo.push((n, inputs));
+        }
+    }
+    let log = |text: String| if args.quiet { Ok(()) } else { say(&text) };
+    log(format!(
+        "shard {shard} ({}): {} frames ({}), {} done, {} to render",
+        args.split,
+        mine.len(),
+        batch::manifest::ranges(&mine),
+        mine.len() - todo.len(),
+        todo.len()
+    ))?;
+
+    if !todo.is_empty() {
+        interrupt::install()?;
+        let bars = Bars::new(args.quiet, todo.len());
+        let pool = args.frame.thread_pool()?;
+        let wanted = args.frame.aov.unwrap_or_default();
+        let origin = args.scene.display().to_string();
+        let host = host();
+        let started = Instant::now();
+        pool.install(|| -> anyhow::Result<()> {
+            let mut animation: Animation = Animation::new(&desc, &script, args.fps)?;
+            for (n, inputs) in &todo {
+                let frame_started = Instant::now();
+                let rebuilds = animation.world().world().grid_rebuilds();
+                let snapshot = animation.step_to(*n)?;
+                let rebuilt = animation.world().world().grid_rebuilds() > rebuilds;
+                let settings = animation.world().world().render_settings();
+                bars.start_frame(*n);
+                let on_tile = |done: u32, total: u32| bars.tile(done, total);
+                let (film, aovs, mut stats) = render_observed(&snapshot, &settings, wanted, &on_tile);
+                (stats.times.script, stats.times.world_update) = animation.last_timing();
+                let replay = meta::animate_replay(argv, *n);
+                let mut metadata = meta::describe(&origin, &scene_source, &settings, &tone, &replay);
+                meta::add_script(&mut metadata, &args.script, script.source().as_bytes());
+                let file = job.file_name(*n);
+                {
+                    let _writing = interrupt::writing();
+                    write_image(&film, aovs.as_ref(), &args.output.join(&file), format, &tone, &metadata)?;
+                    manifest.write_entry(&FrameEntry {
+                        frame: *n,
+                        file: file.clone(),
+                        inputs: inputs.clone(),
+                        seed: settings.seed,
+                        settings: format!("{settings:?}"),
+                        render_seconds: stats.times.trace,
+                        total_seconds: frame_started.elapsed().as_secs_f64(),
+                        rays: FrameEntry::rays_of(&stats),
+                        mrays_per_s: stats.mrays_per_s(),
+                        host: host.clone(),
+                        shard: shard.to_string(),
+                    })?;
+                }
+                bars.finish_frame(&format!(
                     "frame {n:>5}  {:>7.3} s  {:>6.2} Mrays/s  {}{}",
                     frame_started.elapsed().as_secs_f64(),
                     stats.mrays_per_s(),
-                    path.display(),
+                    args.output.join(&file).display(),
                     if rebuilt { "  (grid rebuilt)" } else { "" }
                 ))?;
             }
-        }
-        Ok(())
-    })?;
-    if !args.quiet {
+            Ok(())
+        })?;
+        bars.clear();
         let seconds = started.elapsed().as_secs_f64();
-        say(&format!(
+        log(format!(
             "{} frames in {seconds:.2} s ({:.3} s per frame)",
-            args.frames.len(),
-            seconds / args.frames.len() as f64
+            todo.len(),
+            seconds / todo.len() as f64
         ))?;
     }
     if let (Some(ffmpeg), Some(video)) = (ffmpeg, &args.video) {
         encode_video(&ffmpeg, args, video)?;
-        if !args.quiet {
-            say(&format!("wrote {}", video.display()))?;
-        }
+        log(format!("wrote {}", video.display()))?;
     }
     Ok(())
+}
+
+/// Progress: frames of the shard with an ETA, and the tiles of the frame being rendered
+/// (drawn on standard error only when it is a terminal); per-frame lines go to standard output.
+struct Bars {
+    quiet: bool,
+    frames: ProgressBar,
+    tiles: ProgressBar,
+    _multi: MultiProgress,
+}
+
+impl Bars {
+    fn new(quiet: bool, frames: usize) -> Self {
+        let multi = MultiProgress::with_draw_target(match quiet {
+            true => ProgressDrawTarget::hidden(),
+            false => ProgressDrawTarget::stderr(),
+        });
+        let frame_style = ProgressStyle::with_template(
+            "{prefix:>6} [{bar:30}] {pos}/{len} frames, {elapsed} elapsed, eta {eta}",
+        )
+        .expect("a valid template")
+        .progress_chars("=> ");
+        let tile_style = ProgressStyle::with_template("{prefix:>6} [{bar:30}] {pos}/{len} tiles")
+            .expect("a valid template")
+            .progress_chars("=> ");
+        let frames = multi.add(ProgressBar::new(frames as u64).with_style(frame_style).with_prefix("shard"));
+        let tiles = multi.add(ProgressBar::new(0).with_style(tile_style));
+        Self { quiet, frames, tiles, _multi: multi }
+    }
+
+    fn start_frame(&self, n: u32) {
+        self.tiles.set_prefix(format!("{n}"));
+        self.tiles.set_position(0);
+    }
+
+    fn tile(&self, done: u32, total: u32) {
+        self.tiles.set_length(u64::from(total));
+        self.tiles.set_position(u64::from(done));
+    }
+
+    fn finish_frame(&self, line: &str) -> anyhow::Result<()> {
+        self.frames.inc(1);
+        if !self.quiet {
+            // Above the bars, and in the log when standard output is a file.
+            self.frames.suspend(|| say(line))?;
+        }
+        Ok(())
+    }
+
+    fn clear(&self) {
+        self.tiles.finish_and_clear();
+        self.frames.finish_and_clear();
+    }
 }
 
 /// The ffmpeg executable on PATH, checked before any frame is rendered.

@@ -59,10 +59,11 @@ pub fn add_script(m: &mut Metadata, path: &std::path::Path, source: &[u8]) {
 pub fn animate_replay(argv: &[String], frame: u32) -> Vec<String> {
     let mut tokens = argv.iter().skip(1).skip_while(|t| t.as_str() != "animate").skip(1);
     let mut kept = vec!["animate".to_owned()];
-    let with_value = ["-o", "--output", "--threads", "--video", "--frames"];
+    let with_value =
+        ["-o", "--output", "--threads", "--video", "--frames", "--shard", "--shard-count", "--split"];
     while let Some(t) = tokens.next() {
         let flag = t.split_once('=').map_or(t.as_str(), |(f, _)| f);
-        if t == "--quiet" || (t.starts_with("-o") && t.len() > 2 && !t.starts_with("--")) {
+        if t == "--quiet" || t == "--force" || (t.starts_with("-o") && t.len() > 2 && !t.starts_with("--")) {
             continue;
         }
         if with_value.contains(&flag) {

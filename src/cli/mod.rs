@@ -1,10 +1,12 @@
-//! The command line (clap): `render` (the default), `animate`, `sweep` and `info`. Only the binary uses this
+//! The command line (clap): `render` (the default), `animate`, `sweep`, `status` and `info`. Only the binary uses this
 //! module; everything it calls is the library's public API.
 
 pub mod animate;
 pub mod info;
+pub mod interrupt;
 pub mod meta;
 pub mod render;
+pub mod status;
 pub mod sweep;
 
 use clap::{Parser, Subcommand};
@@ -30,4 +32,6 @@ pub enum Command {
     /// Render one image per parameter set a Rhai script declares (`fn sweep()`), with a table
     /// of render times and ray counts.
     Sweep(sweep::SweepArgs),
+    /// Tell which frames of an animation folder are done, missing or stale.
+    Status(status::StatusArgs),
 }

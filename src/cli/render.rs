@@ -245,6 +245,11 @@ impl FrameArgs {
         }
     }
 
+    /// Every option that changes the pixels, as text (the thread count never does).
+    pub fn fingerprint(&self) -> String {
+        format!("{:?}", FrameArgs { threads: None, ..self.clone() })
+    }
+
     /// A rayon pool of `--threads` workers (default: one per core).
     pub fn thread_pool(&self) -> anyhow::Result<rayon::ThreadPool> {
         rayon::ThreadPoolBuilder::new()

@@ -141,6 +141,18 @@ fn stage(path: &Path, bytes: &[u8]) -> Result<tempfile::NamedTempFile, OutputErr
 /// Renames a staged temporary file to `path` (on error it is removed when dropped).
 fn persist(path: &Path, tmp: tempfile::NamedTempFile) -> Result<(), OutputError> {
     tmp.persist(path).map_err(|e| OutputError::Io { path: path.to_path_buf(), source: e.error })?;
+    // The rename is durable once the folder's entry is: sync the folder too (Unix; elsewhere
+    // folders cannot be opened for syncing).
+    #[cfg(unix)]
+    {
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        std::fs::File::open(dir)
+            .and_then(|d| d.sync_all())
+            .map_err(|source| OutputError::Io { path: dir.to_path_buf(), source })?;
+    }
     Ok(())
 }
 

@@ -18,7 +18,7 @@ use crate::store::{PrimitiveStore, SoaStore};
 use crate::trace::TraceScene;
 
 /// An inclusive range of frame numbers.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct FrameRange {
     /// First frame.
     pub first: u32,

@@ -18,6 +18,6 @@ pub use effects::Effects;
 pub use integrator::{closest_hit, closest_hit_brute};
 pub use light::Light;
 pub use material::Material;
-pub use render::{render, render_with_aovs, AntiAliasing, RenderSettings, Sampling};
+pub use render::{render, render_observed, render_with_aovs, AntiAliasing, RenderSettings, Sampling};
 pub use scene::{SceneTables, TraceScene};
 pub use stats::{AdaptiveCounts, GridStats, RayCounts, RenderStats, StageTimes};

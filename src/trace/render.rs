@@ -12,6 +12,7 @@
 //! bit-identical for any thread count or tile order.
 
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -121,16 +122,30 @@ pub fn render_with_aovs<S: PrimitiveStore>(
     settings: &RenderSettings,
     wanted: AovSet,
 ) -> (Film, Option<Aovs>, RenderStats) {
+    render_observed(scene, settings, wanted, &|_, _| {})
+}
+
+/// [`render_with_aovs`], calling `on_tile(done, total)` from the worker threads as each tile
+/// is finished (for progress bars). The image does not depend on the observer.
+pub fn render_observed<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    settings: &RenderSettings,
+    wanted: AovSet,
+    on_tile: &(dyn Fn(u32, u32) + Sync),
+) -> (Film, Option<Aovs>, RenderStats) {
     let started = Instant::now();
+    let total = settings.width.div_ceil(TILE) * settings.height.div_ceil(TILE);
+    let done = AtomicU32::new(0);
+    let tile_done = || on_tile(done.fetch_add(1, Ordering::Relaxed) + 1, total);
     if settings.width == 0 || settings.height == 0 {
         let empty = (!wanted.is_empty()).then(|| Aovs::new(wanted, settings.width, settings.height));
         return (Film::new(settings.width, settings.height), empty, RenderStats::default());
     }
     let (film, mut rays, adaptive, cost) = match settings.adaptive {
-        Some(adaptive) => render_adaptive(scene, settings, &adaptive, wanted.cost),
+        Some(adaptive) => render_adaptive(scene, settings, &adaptive, wanted.cost, &tile_done),
         None => {
             let pixel = |x, y, rays: &mut RayCounts| fixed_pixel(scene, settings, x, y, rays);
-            let (film, rays, cost) = render_tiles(settings, wanted.cost, pixel);
+            let (film, rays, cost) = render_tiles(settings, wanted.cost, pixel, &tile_done);
             (film, rays, AdaptiveCounts::default(), cost)
         }
     };
@@ -176,6 +191,7 @@ fn render_tiles<F>(
     settings: &RenderSettings,
     want_cost: bool,
     pixel: F,
+    tile_done: &(dyn Fn() + Sync),
 ) -> (Film, RayCounts, Option<Vec<u32>>)
 where
     F: Fn(u32, u32, &mut RayCounts) -> Vec3 + Sync,
@@ -200,6 +216,7 @@ where
                     }
                 }
             }
+            tile_done();
             (pixels, costs, rays)
         })
         .collect();
@@ -305,6 +322,7 @@ fn render_adaptive<S: PrimitiveStore>(
     settings: &RenderSettings,
     adaptive: &AdaptiveSettings,
     want_cost: bool,
+    tile_done: &(dyn Fn() + Sync),
 ) -> (Film, RayCounts, AdaptiveCounts, Option<Vec<u32>>) {
     let (w, h) = (settings.width, settings.height);
     let res = adaptive.resolution();
@@ -351,6 +369,7 @@ fn render_adaptive<S: PrimitiveStore>(
                     }
                 }
             }
+            tile_done();
             ((pixels, costs, rays), stats)
         })
         .collect();
