@@ -5,7 +5,8 @@
 # core of the machine) from a private slurm.conf in a temporary folder, then:
 #   1. renders frames 0..=7 of the shipped fly-through in one process (the reference);
 #   2. submits the same range as a 4-task job array (1 CPU per task) and SIGKILLs task 2 while
-#      it is inside its first frame;
+#      it is inside its first frame (`scancel --batch --signal=KILL`: a real SIGKILL, not the
+#      SIGTERM a cancel starts with, which penumbra would handle cleanly);
 #   3. checks that no frame file is partial and that exactly task 2's frames are missing;
 #   4. resubmits task 2 alone and checks that it renders only its own frames;
 #   5. compares every frame with the reference byte for byte and asks `penumbra status`.
@@ -97,15 +98,15 @@ stop_pid() {
 cleanup() {
     local rc=$? i f
     set +e
-    trap - EXIT INT TERM
-    local jobs
-    jobs=$(paste -sd, "$JOBIDS" 2>/dev/null)
-    if [ -n "$jobs" ] && [ -n "$SLURMCTLD_PID" ] && kill -0 "$SLURMCTLD_PID" 2>/dev/null; then
-        # SIGKILL what runs now, then cancel what is still pending; wait for the steps to end.
-        scancel --full --signal=KILL ${jobs//,/ } 2>/dev/null
-        scancel ${jobs//,/ } 2>/dev/null
+    trap - EXIT INT TERM ERR
+    local jobs=()
+    [ -f "$JOBIDS" ] && mapfile -t jobs <"$JOBIDS"
+    if [ ${#jobs[@]} -gt 0 ] && [ -n "$SLURMCTLD_PID" ] && kill -0 "$SLURMCTLD_PID" 2>/dev/null; then
+        # Cancel what is pending, kill what runs; wait for the steps to end.
+        scancel --full --signal=KILL "${jobs[@]}" 2>/dev/null
+        scancel "${jobs[@]}" 2>/dev/null
         for i in $(seq 150); do
-            [ -z "$(squeue -h -j "$jobs" 2>/dev/null)" ] && break
+            [ -z "$(squeue -h -j "$(IFS=,; echo "${jobs[*]}")" 2>/dev/null)" ] && break
             sleep 0.1
         done
     fi
@@ -308,12 +309,25 @@ for f in "${VICTIM_FRAMES[@]}"; do
         die "task $VICTIM finished frame $f before the kill; make frames slower (SLURM_TEST_WIDTH/HEIGHT)"
 done
 T_KILL=$(elapsed "$T0" "$(now)")
-scancel --full --signal=KILL "${JOB}_${VICTIM}"
-log "killed task $VICTIM (${JOB}_${VICTIM}) ${DELAY} s into its first frame, ${T_KILL} s after submitting"
+# A real SIGKILL, no chance to clean up: signal the batch step (the batch script exec's
+# penumbra, so that is penumbra itself). Not `scancel --full --signal=KILL JOB` nor plain
+# `scancel JOB`: slurmctld turns a SIGKILL for the whole job into a cancel, and slurmd cancels
+# with SIGTERM first (SIGKILL only KillWait later), which penumbra handles cleanly.
+scancel --batch --signal=KILL "${JOB}_${VICTIM}"
+log "SIGKILLed task $VICTIM (${JOB}_${VICTIM}) ${DELAY} s into its first frame, ${T_KILL} s after submitting"
 
 wait_job "$JOB" 120
 T_ARRAY=$(elapsed "$T0" "$(now)")
-log "array job $JOB done in ${T_ARRAY} s (task $VICTIM killed)"
+# Slurm keeps finished jobs (MinJobAge) and reports how task 2 ended: killed by signal 9.
+VICTIM_END=$(scontrol show job "${JOB}_${VICTIM}" | grep -oE 'JobState=[A-Z_]+|ExitCode=[0-9:]+' | paste -sd ' ')
+case "$VICTIM_END" in
+*"ExitCode=0:9"*) ;;
+*) die "task $VICTIM did not end by SIGKILL: $VICTIM_END" ;;
+esac
+if grep -q 'stopped by' "$WORK/jobs/${JOB}_${VICTIM}.out"; then
+    die "task $VICTIM stopped cleanly instead of being killed"
+fi
+log "array job $JOB done in ${T_ARRAY} s (task $VICTIM: $VICTIM_END)"
 
 # No partial frames: every frame_*.png present is a complete PNG (chunk CRCs, IEND, inflatable
 # image data), and no other file claims to be a frame.
@@ -387,7 +401,8 @@ for ((f = FIRST; f <= LAST; f++)); do
         die "frame $f differs from the single-process render"
     N=$((N + 1))
 done
-[ "$(ls "$ARRAY" | grep -c '^frame_.*\.png$')" -eq "$NFRAMES" ] || die "unexpected frame files in $ARRAY"
+FINAL=("$ARRAY"/frame_*.png)
+[ ${#FINAL[@]} -eq "$NFRAMES" ] || die "${#FINAL[@]} frame files in $ARRAY, expected $NFRAMES"
 
 STATUS=$("$BIN" status "$ARRAY" --json) || die "penumbra status failed"
 COUNTS=$(printf '%s' "$STATUS" | python3 -c 'import json, sys; s = json.load(sys.stdin); print(len(s["done"]), len(s["missing"]), len(s["stale"]))')
