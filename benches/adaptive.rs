@@ -9,9 +9,11 @@
 //! Run: `cargo bench --bench adaptive` (criterion timing of one fixed and one adaptive
 //! setting, then the table); `cargo bench --bench adaptive -- zzz` prints only the table.
 
+mod harness;
+
 use std::hint::black_box;
 use std::path::Path;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use criterion::{BenchmarkId, Criterion};
 use penumbra::film::{rmse, Film};
@@ -135,15 +137,5 @@ fn fixed_at(curve: &[(f64, f64, f64)], e: f64) -> Option<(f64, f64)> {
 }
 
 fn main() {
-    let mut c = Criterion::default()
-        .warm_up_time(Duration::from_secs(1))
-        .measurement_time(Duration::from_secs(3))
-        .sample_size(10)
-        .configure_from_args();
-    bench_adaptive(&mut c);
-    c.final_summary();
-    let quick = std::env::args().any(|a| a == "--test" || a == "--list");
-    if !quick && std::env::var_os("PENUMBRA_BENCH_NO_TABLE").is_none() {
-        print_table();
-    }
+    harness::run(10, bench_adaptive, print_table);
 }

@@ -6,9 +6,11 @@
 //! Run: `cargo bench --bench effects` (criterion groups, then the table);
 //! `cargo bench --bench effects -- zzz` prints only the table.
 
+mod harness;
+
 use std::hint::black_box;
 use std::path::Path;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use criterion::{BenchmarkId, Criterion};
 use penumbra::scene::{self, LightDesc, SceneDesc};
@@ -146,15 +148,5 @@ fn print_table() {
 }
 
 fn main() {
-    let mut c = Criterion::default()
-        .warm_up_time(Duration::from_secs(1))
-        .measurement_time(Duration::from_secs(3))
-        .sample_size(10)
-        .configure_from_args();
-    bench_effects(&mut c);
-    c.final_summary();
-    let quick = std::env::args().any(|a| a == "--test" || a == "--list");
-    if !quick && std::env::var_os("PENUMBRA_BENCH_NO_TABLE").is_none() {
-        print_table();
-    }
+    harness::run(10, bench_effects, print_table);
 }

@@ -17,6 +17,7 @@
 
 #[path = "../tests/common/mod.rs"]
 mod common;
+mod harness;
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
@@ -192,17 +193,12 @@ fn print_tables() {
 }
 
 fn main() {
-    let mut c = Criterion::default()
-        .warm_up_time(Duration::from_secs(1))
-        .measurement_time(Duration::from_secs(3))
-        .sample_size(10)
-        .configure_from_args();
-    grid_vs_brute(&mut c);
-    grid_lambda(&mut c);
-    c.final_summary();
-    // `cargo test --benches` and `--list` run the binary too: skip the timing tables there.
-    let quick = std::env::args().any(|a| a == "--test" || a == "--list");
-    if !quick && std::env::var_os("PENUMBRA_BENCH_NO_TABLE").is_none() {
-        print_tables();
-    }
+    harness::run(
+        10,
+        |c| {
+            grid_vs_brute(c);
+            grid_lambda(c)
+        },
+        print_tables,
+    );
 }

@@ -10,8 +10,10 @@
 //! Run: `cargo bench --bench script` (criterion, then the table);
 //! `cargo bench --bench script -- zzz` prints only the table.
 
+mod harness;
+
 use std::hint::black_box;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use criterion::{BenchmarkId, Criterion};
 use penumbra::scene::{self, SceneDesc};
@@ -131,15 +133,5 @@ fn print_table() {
 }
 
 fn main() {
-    let mut c = Criterion::default()
-        .warm_up_time(Duration::from_secs(1))
-        .measurement_time(Duration::from_secs(3))
-        .sample_size(20)
-        .configure_from_args();
-    bench_script(&mut c);
-    c.final_summary();
-    let quick = std::env::args().any(|a| a == "--test" || a == "--list");
-    if !quick && std::env::var_os("PENUMBRA_BENCH_NO_TABLE").is_none() {
-        print_table();
-    }
+    harness::run(20, bench_script, print_table);
 }
