@@ -11,6 +11,7 @@ pub mod camera;
 pub mod film;
 pub mod geom;
 pub mod math;
+pub mod report;
 pub mod sample;
 pub mod scene;
 pub mod script;
