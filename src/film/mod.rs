@@ -12,7 +12,7 @@ pub mod tonemap;
 
 pub use aov::{AovSet, Aovs};
 pub use metadata::Metadata;
-pub use metrics::{psnr, rmse};
+pub use metrics::{error_heatmap, luminance_srgb, psnr, rmse, ssim, ssim_map};
 pub use output::{
     encode_srgb8, linear_to_srgb, read_exr, read_metadata, write_atomically, write_image, write_png,
     OutputError, OutputFormat,
