@@ -18,6 +18,7 @@ fn main() -> ExitCode {
         Some(Command::Animate(args)) => cli::animate::run(&args, &argv),
         Some(Command::Sweep(args)) => cli::sweep::run(&args),
         Some(Command::Status(args)) => cli::status::run(&args),
+        Some(Command::Report(args)) => cli::report::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,4 +1,4 @@
-//! The command line (clap): `render` (the default), `animate`, `sweep`, `status` and `info`. Only the binary uses this
+//! The command line (clap): `render` (the default), `animate`, `sweep`, `status`, `report` and `info`. Only the binary uses this
 //! module; everything it calls is the library's public API.
 
 pub mod animate;
@@ -6,6 +6,7 @@ pub mod info;
 pub mod interrupt;
 pub mod meta;
 pub mod render;
+pub mod report;
 pub mod status;
 pub mod sweep;
 
@@ -34,4 +35,7 @@ pub enum Command {
     Sweep(sweep::SweepArgs),
     /// Tell which frames of an animation folder are done, missing or stale.
     Status(status::StatusArgs),
+    /// Measure what accuracy costs in time: error against a reference for each effect's
+    /// sample count, with tables, plots and an HTML page.
+    Report(report::ReportArgs),
 }

@@ -4,6 +4,8 @@
 
 pub mod html;
 pub mod plot;
+pub mod run;
+pub mod sweep;
 
 use serde::Serialize;
 
@@ -26,7 +28,8 @@ pub struct Point {
     pub rays: RayCounts,
     /// Root-mean-square error against the reference (linear RGB).
     pub rmse: f64,
-    /// PSNR in dB (infinite for an image equal to the reference).
+    /// PSNR in dB (infinite for an image equal to the reference; `"inf"` in JSON).
+    #[serde(serialize_with = "finite_or_inf")]
     pub psnr: f64,
     /// Mean SSIM on luminance against the reference, in [-1, 1].
     pub ssim: f64,
@@ -34,6 +37,14 @@ pub struct Point {
     pub image: String,
     /// Its error heat map against the reference, a PNG file name relative to the report folder.
     pub heatmap: String,
+}
+
+/// A float as a JSON number, or the string `"inf"` when infinite (JSON has no infinity).
+fn finite_or_inf<S: serde::Serializer>(value: &f64, s: S) -> Result<S::Ok, S::Error> {
+    match value.is_infinite() {
+        true => s.serialize_str(if *value > 0.0 { "inf" } else { "-inf" }),
+        false => s.serialize_f64(*value),
+    }
 }
 
 /// What an effect's sampling costs at the scene's own settings: the median time with the
@@ -140,8 +151,19 @@ mod tests {
             width: 1,
             height: 1,
             threads: 1,
-            reference: Reference { description: String::new(), seconds: 0.0, rays: RayCounts::default(), image: String::new() },
-            points: vec![point("aa", 1.0, 0.1), point("aa", 2.0, 0.05), point("lens", 1.5, 0.2), point("lens", 3.0, 0.05), point("adaptive", 0.5, 0.3)],
+            reference: Reference {
+                description: String::new(),
+                seconds: 0.0,
+                rays: RayCounts::default(),
+                image: String::new(),
+            },
+            points: vec![
+                point("aa", 1.0, 0.1),
+                point("aa", 2.0, 0.05),
+                point("lens", 1.5, 0.2),
+                point("lens", 3.0, 0.05),
+                point("adaptive", 0.5, 0.3),
+            ],
             costs: vec![],
         };
         assert_eq!(report.pareto_front(), [4, 0, 1]);

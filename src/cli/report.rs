@@ -1,0 +1,115 @@
+//! `penumbra report SCENE [--sweep SWEEP.ron] [--reference REF.exr] -o reports/NAME/`: what
+//! accuracy costs in time, as tables, plots and a static HTML page.
+
+use std::path::PathBuf;
+
+use anyhow::{bail, Context};
+use clap::Args;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use penumbra::film::{read_exr, write_atomically};
+use penumbra::report::run::{csv, effects_of, render_count, run as run_report, Options};
+use penumbra::report::sweep::SweepDesc;
+use penumbra::report::{html, plot};
+use penumbra::scene;
+
+use super::render::{apply_size, say};
+
+/// Arguments of `penumbra report`.
+#[derive(Args, Debug)]
+pub struct ReportArgs {
+    /// Scene file (RON).
+    pub scene: PathBuf,
+    /// Sweep file (RON; see `report::sweep`). Default: AA and adaptive, plus area-light,
+    /// glossy and lens samples where the scene uses those effects.
+    #[arg(long, value_name = "SWEEP.ron")]
+    pub sweep: Option<PathBuf>,
+    /// Use this image (linear EXR, e.g. from `penumbra render --format exr-float`) as the
+    /// reference instead of rendering one.
+    #[arg(long, value_name = "REF.exr")]
+    pub reference: Option<PathBuf>,
+    /// Report folder (created if missing).
+    #[arg(short, long, default_value = "report")]
+    pub output: PathBuf,
+    /// Renders per point; the reported time is their median.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=99))]
+    pub runs: u32,
+    /// Image width in pixels (overrides the scene; alone, the height keeps the aspect).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub width: Option<u32>,
+    /// Image height in pixels (overrides the scene; alone, the width keeps the aspect).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub height: Option<u32>,
+    /// Worker threads (default: one per core).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// No progress bar or summary.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// Runs the report and writes its files.
+pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
+    let mut desc = scene::load_scene(&args.scene)?;
+    apply_size(&mut desc, args.width, args.height);
+    let sweep = match &args.sweep {
+        Some(path) => SweepDesc::load(path).map_err(anyhow::Error::msg)?,
+        None => SweepDesc::default_for(&effects_of(&desc)),
+    };
+    let reference = match &args.reference {
+        Some(path) => {
+            let (film, _) = read_exr(path)?;
+            Some((film, path.display().to_string()))
+        }
+        None => None,
+    };
+    if args.output.is_file() {
+        bail!("{}: is a file; the report needs a folder", args.output.display());
+    }
+    std::fs::create_dir_all(&args.output)
+        .with_context(|| format!("{}: cannot create the report folder", args.output.display()))?;
+    let options = Options { runs: args.runs as usize, reference };
+
+    let bar = ProgressBar::with_draw_target(
+        Some(render_count(&desc, &sweep, &options) as u64),
+        if args.quiet { ProgressDrawTarget::hidden() } else { ProgressDrawTarget::stderr() },
+    );
+    bar.set_style(
+        ProgressStyle::with_template("{bar:30} {pos}/{len} renders, eta {eta}  {msg}")
+            .expect("a valid template")
+            .progress_chars("=> "),
+    );
+    let progress = |label: &str| {
+        bar.set_message(label.to_owned());
+        bar.inc(1);
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0) as usize)
+        .build()
+        .context("cannot start worker threads")?;
+    let scene_name = args.scene.display().to_string();
+    let report =
+        pool.install(|| run_report(&desc, &scene_name, &sweep, &options, &args.output, &progress))?;
+    bar.finish_and_clear();
+
+    write_atomically(&args.output.join("results.csv"), csv(&report).as_bytes())?;
+    let json = serde_json::to_vec_pretty(&report).context("cannot encode results.json")?;
+    write_atomically(&args.output.join("results.json"), &json)?;
+    plot::error_vs_time(&report, &args.output)?;
+    plot::rays_vs_error(&report, &args.output)?;
+    plot::effect_costs(&report, &args.output)?;
+    let index = html::write_index(&report, &args.output)?;
+    if !args.quiet {
+        let front: Vec<&str> =
+            report.pareto_front().iter().map(|&i| report.points[i].label.as_str()).collect();
+        say(&format!(
+            "{} points against the reference ({}, {:.2} s); Pareto front: {}\nwrote {}",
+            report.points.len(),
+            report.reference.description,
+            report.reference.seconds,
+            front.join(", "),
+            index.display()
+        ))?;
+    }
+    Ok(())
+}

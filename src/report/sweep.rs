@@ -1,0 +1,400 @@
+//! What a report sweeps: axes of sample counts (and AA patterns, adaptive thresholds), the
+//! reference's settings and the runs per point, from a RON file or chosen for the scene.
+//!
+//! ```ron
+//! Sweep(
+//!     axes: [
+//!         Aa(samples: [1, 4, 16, 64], patterns: [Grid, Random, Jittered]),
+//!         Adaptive(thresholds: [0.2, 0.05, 0.02], depths: [3]),
+//!         AreaLight(samples: [1, 4, 16, 64]),
+//!         Glossy(samples: [1, 4, 16, 64]),
+//!         Lens(samples: [1, 4, 16]),
+//!     ],
+//!     reference: (aa: 64, lens: 16, area_light: 256, glossy: 256),
+//! )
+//! ```
+//!
+//! While one axis varies, every other effect keeps the scene's own setting: each curve shows
+//! what that one sample count buys in the image a user would ship.
+
+use std::path::Path;
+
+use serde::Deserialize;
+
+use crate::sample::adaptive::AdaptiveSettings;
+use crate::sample::Pattern;
+use crate::scene::validate::{MAX_ADAPTIVE_DEPTH, MAX_SAMPLES};
+use crate::scene::{AdaptiveDesc, LightDesc, SceneDesc};
+use crate::trace::Effects;
+
+/// One axis of a sweep.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Axis {
+    /// Anti-aliasing samples per pixel, for each pattern.
+    Aa {
+        /// Sample counts.
+        samples: Vec<u32>,
+        /// Patterns (default: jittered only).
+        #[serde(default = "jittered")]
+        patterns: Vec<Pattern>,
+    },
+    /// Adaptive supersampling: every threshold at every depth.
+    Adaptive {
+        /// Corner thresholds.
+        thresholds: Vec<f32>,
+        /// Deepest levels (default 3).
+        #[serde(default = "depth_3")]
+        depths: Vec<u32>,
+    },
+    /// Shadow samples of every area light.
+    AreaLight {
+        /// Sample counts.
+        samples: Vec<u32>,
+    },
+    /// Rays per glossy reflection or blurry refraction.
+    Glossy {
+        /// Sample counts.
+        samples: Vec<u32>,
+    },
+    /// Lens samples per camera sample.
+    Lens {
+        /// Sample counts.
+        samples: Vec<u32>,
+    },
+}
+
+fn jittered() -> Vec<Pattern> {
+    vec![Pattern::Jittered]
+}
+
+fn depth_3() -> Vec<u32> {
+    vec![3]
+}
+
+impl Axis {
+    /// The axis name in tables and plots.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Axis::Aa { .. } => "aa",
+            Axis::Adaptive { .. } => "adaptive",
+            Axis::AreaLight { .. } => "area_light",
+            Axis::Glossy { .. } => "glossy",
+            Axis::Lens { .. } => "lens",
+        }
+    }
+
+    /// Every variant of the axis.
+    pub fn variants(&self) -> Vec<Variant> {
+        let counts =
+            |samples: &[u32], make: fn(u32) -> Setting| samples.iter().map(|&n| make(n)).collect::<Vec<_>>();
+        let settings = match self {
+            Axis::Aa { samples, patterns } => {
+                patterns.iter().flat_map(|&p| samples.iter().map(move |&n| Setting::Aa(n, p))).collect()
+            }
+            Axis::Adaptive { thresholds, depths } => depths
+                .iter()
+                .flat_map(|&d| thresholds.iter().map(move |&t| Setting::Adaptive(t, d)))
+                .collect(),
+            Axis::AreaLight { samples } => counts(samples, Setting::AreaLight),
+            Axis::Glossy { samples } => counts(samples, Setting::Glossy),
+            Axis::Lens { samples } => counts(samples, Setting::Lens),
+        };
+        settings.into_iter().map(|setting| Variant { axis: self.name(), setting }).collect()
+    }
+
+    /// The first rule the axis breaks, if any.
+    fn check(&self) -> Result<(), String> {
+        let name = self.name();
+        let counts = |samples: &[u32]| -> Result<(), String> {
+            if samples.is_empty() {
+                return Err(format!("{name}: `samples` lists no values"));
+            }
+            match samples.iter().find(|n| !(1..=MAX_SAMPLES).contains(n)) {
+                Some(n) => Err(format!("{name}: sample count {n} is not in 1..={MAX_SAMPLES}")),
+                None => Ok(()),
+            }
+        };
+        match self {
+            Axis::Aa { samples, patterns } if patterns.is_empty() => {
+                counts(samples)?;
+                Err("aa: `patterns` lists no values".into())
+            }
+            Axis::Aa { samples, .. }
+            | Axis::AreaLight { samples }
+            | Axis::Glossy { samples }
+            | Axis::Lens { samples } => counts(samples),
+            Axis::Adaptive { thresholds, depths } => {
+                if thresholds.is_empty() || depths.is_empty() {
+                    return Err("adaptive: `thresholds` and `depths` must list values".into());
+                }
+                if let Some(t) = thresholds.iter().find(|t| !(t.is_finite() && **t >= 0.0)) {
+                    return Err(format!("adaptive: threshold {t} must be finite and >= 0"));
+                }
+                match depths.iter().find(|d| !(1..=MAX_ADAPTIVE_DEPTH).contains(d)) {
+                    Some(d) => Err(format!("adaptive: depth {d} is not in 1..={MAX_ADAPTIVE_DEPTH}")),
+                    None => Ok(()),
+                }
+            }
+        }
+    }
+}
+
+/// One setting of one axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Setting {
+    /// AA samples and pattern (adaptive off).
+    Aa(u32, Pattern),
+    /// Adaptive threshold and depth.
+    Adaptive(f32, u32),
+    /// Area-light samples.
+    AreaLight(u32),
+    /// Glossy/blurry rays.
+    Glossy(u32),
+    /// Lens samples.
+    Lens(u32),
+}
+
+/// A point of the sweep: its axis and setting.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Variant {
+    /// Axis name.
+    pub axis: &'static str,
+    /// The setting.
+    pub setting: Setting,
+}
+
+fn pattern_name(p: Pattern) -> &'static str {
+    match p {
+        Pattern::Grid => "grid",
+        Pattern::Random => "random",
+        Pattern::Jittered => "jittered",
+    }
+}
+
+impl Variant {
+    /// Label for tables and plots, e.g. `aa 16 jittered`.
+    pub fn label(&self) -> String {
+        match self.setting {
+            Setting::Aa(n, p) => format!("aa {n} {}", pattern_name(p)),
+            Setting::Adaptive(t, d) => format!("adaptive {t}:{d}"),
+            Setting::AreaLight(n) => format!("area light {n}"),
+            Setting::Glossy(n) => format!("glossy {n}"),
+            Setting::Lens(n) => format!("lens {n}"),
+        }
+    }
+
+    /// Parameter names and values.
+    pub fn params(&self) -> Vec<(String, String)> {
+        let pair = |k: &str, v: String| (k.to_owned(), v);
+        match self.setting {
+            Setting::Aa(n, p) => {
+                vec![pair("samples", n.to_string()), pair("pattern", pattern_name(p).into())]
+            }
+            Setting::Adaptive(t, d) => vec![pair("threshold", t.to_string()), pair("depth", d.to_string())],
+            Setting::AreaLight(n) | Setting::Glossy(n) | Setting::Lens(n) => {
+                vec![pair("samples", n.to_string())]
+            }
+        }
+    }
+
+    /// The scene with this setting applied.
+    pub fn apply(&self, desc: &SceneDesc) -> SceneDesc {
+        let mut d = desc.clone();
+        match self.setting {
+            Setting::Aa(n, p) => {
+                d.settings.aa.samples = n;
+                d.settings.aa.pattern = p;
+                d.settings.adaptive = None;
+            }
+            Setting::Adaptive(threshold, max_depth) => {
+                d.settings.adaptive = Some(AdaptiveDesc { threshold, max_depth })
+            }
+            Setting::AreaLight(n) => set_area_samples(&mut d, n),
+            Setting::Glossy(n) => d.settings.glossy.samples = n,
+            Setting::Lens(n) => d.camera.lens.samples = n,
+        }
+        d
+    }
+}
+
+fn set_area_samples(d: &mut SceneDesc, n: u32) {
+    for light in &mut d.lights {
+        if let LightDesc::Rect { samples, .. } | LightDesc::Disk { samples, .. } = light {
+            *samples = n;
+        }
+    }
+}
+
+/// How the reference is rendered: every effect's sample count, far above the sweep's.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ReferenceSettings {
+    /// AA samples (jittered, box or the scene's filter; adaptive off).
+    pub aa: u32,
+    /// Lens samples per camera sample (with an aperture).
+    pub lens: u32,
+    /// Area-light samples.
+    pub area_light: u32,
+    /// Glossy/blurry rays.
+    pub glossy: u32,
+}
+
+impl Default for ReferenceSettings {
+    fn default() -> Self {
+        Self { aa: 64, lens: 16, area_light: 256, glossy: 256 }
+    }
+}
+
+impl ReferenceSettings {
+    /// The scene as the reference renders it.
+    pub fn apply(&self, desc: &SceneDesc) -> SceneDesc {
+        let mut d = desc.clone();
+        d.settings.aa.samples = self.aa;
+        d.settings.aa.pattern = Pattern::Jittered;
+        d.settings.adaptive = None;
+        d.camera.lens.samples = self.lens;
+        d.settings.glossy.samples = self.glossy;
+        set_area_samples(&mut d, self.area_light);
+        d
+    }
+
+    /// `aa 64, lens 16, …`, naming only the effects the scene uses.
+    pub fn describe(&self, effects: &Effects) -> String {
+        let mut parts = vec![format!("aa {} jittered", self.aa)];
+        if effects.lens {
+            parts.push(format!("lens {}", self.lens));
+        }
+        if effects.area_lights {
+            parts.push(format!("area light {}", self.area_light));
+        }
+        if effects.glossy || effects.blurry {
+            parts.push(format!("glossy {}", self.glossy));
+        }
+        parts.join(", ")
+    }
+}
+
+/// A whole sweep.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(rename = "Sweep", deny_unknown_fields)]
+pub struct SweepDesc {
+    /// The axes, in order.
+    pub axes: Vec<Axis>,
+    /// The reference's settings.
+    #[serde(default)]
+    pub reference: ReferenceSettings,
+}
+
+/// Sample counts the default sweep tries.
+const COUNTS: [u32; 4] = [1, 4, 16, 64];
+
+impl SweepDesc {
+    /// The sweep a scene with `effects` calls for: AA (three patterns) and adaptive always;
+    /// area-light, glossy and lens samples only when the scene has area lights, glossy or
+    /// blurry materials, or an aperture.
+    pub fn default_for(effects: &Effects) -> Self {
+        let mut axes = vec![
+            Axis::Aa {
+                samples: COUNTS.to_vec(),
+                patterns: vec![Pattern::Grid, Pattern::Random, Pattern::Jittered],
+            },
+            Axis::Adaptive { thresholds: vec![0.2, 0.1, 0.05, 0.02], depths: vec![3] },
+        ];
+        if effects.area_lights {
+            axes.push(Axis::AreaLight { samples: COUNTS.to_vec() });
+        }
+        if effects.glossy || effects.blurry {
+            axes.push(Axis::Glossy { samples: COUNTS.to_vec() });
+        }
+        if effects.lens {
+            axes.push(Axis::Lens { samples: COUNTS.to_vec() });
+        }
+        Self { axes, reference: ReferenceSettings::default() }
+    }
+
+    /// Reads a sweep file; errors name the file, line and column.
+    pub fn load(path: &Path) -> Result<Self, String> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("{}: cannot read sweep: {e}", path.display()))?;
+        Self::parse(&text, &path.display().to_string())
+    }
+
+    /// Parses sweep text; `origin` names it in errors.
+    pub fn parse(text: &str, origin: &str) -> Result<Self, String> {
+        let sweep: SweepDesc = ron::from_str(text)
+            .map_err(|e| format!("{origin}:{}:{}: {}", e.span.start.line, e.span.start.col, e.code))?;
+        if sweep.axes.is_empty() {
+            return Err(format!("{origin}: `axes` lists no axis"));
+        }
+        for axis in &sweep.axes {
+            axis.check().map_err(|rule| format!("{origin}: axes: {rule}"))?;
+        }
+        let r = &sweep.reference;
+        for (name, n) in [("aa", r.aa), ("lens", r.lens), ("area_light", r.area_light), ("glossy", r.glossy)]
+        {
+            if !(1..=MAX_SAMPLES).contains(&n) {
+                return Err(format!("{origin}: reference.{name}: {n} is not in 1..={MAX_SAMPLES}"));
+            }
+        }
+        Ok(sweep)
+    }
+
+    /// Every variant, axis by axis.
+    pub fn variants(&self) -> Vec<Variant> {
+        self.axes.iter().flat_map(Axis::variants).collect()
+    }
+}
+
+/// The setting an effect's cost is measured with, "off": one sample (or adaptive off).
+pub fn cheapest(axis: &str, desc: &SceneDesc) -> Option<SceneDesc> {
+    let mut d = desc.clone();
+    match axis {
+        "aa" => d.settings.aa.samples = 1,
+        "adaptive" => d.settings.adaptive = None,
+        "area_light" => set_area_samples(&mut d, 1),
+        "glossy" => d.settings.glossy.samples = 1,
+        "lens" => d.camera.lens.samples = 1,
+        _ => return None,
+    }
+    Some(d)
+}
+
+/// Adaptive settings of a scene, for reports that mention them.
+pub fn adaptive_of(desc: &SceneDesc) -> Option<AdaptiveSettings> {
+    desc.settings
+        .adaptive
+        .as_ref()
+        .map(|a| AdaptiveSettings { threshold: a.threshold, max_depth: a.max_depth })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_sweep_covers_only_the_effects_a_scene_uses() {
+        let none = SweepDesc::default_for(&Effects::default());
+        let names: Vec<&str> = none.axes.iter().map(Axis::name).collect();
+        assert_eq!(names, ["aa", "adaptive"]);
+        let all = Effects { area_lights: true, glossy: true, lens: true, ..Effects::default() };
+        let names: Vec<&str> = SweepDesc::default_for(&all).axes.iter().map(Axis::name).collect();
+        assert_eq!(names, ["aa", "adaptive", "area_light", "glossy", "lens"]);
+        assert_eq!(SweepDesc::default_for(&Effects::default()).variants().len(), 12 + 4);
+    }
+
+    #[test]
+    fn sweep_files_parse_and_bad_ones_name_the_place() {
+        let text = "Sweep(axes: [Aa(samples: [1, 4]), Lens(samples: [2])], reference: (aa: 32))";
+        let sweep = SweepDesc::parse(text, "s.ron").unwrap();
+        assert_eq!(sweep.variants().len(), 3);
+        assert_eq!(sweep.reference, ReferenceSettings { aa: 32, ..ReferenceSettings::default() });
+        assert_eq!(sweep.variants()[1].label(), "aa 4 jittered");
+        let e = SweepDesc::parse("Sweep(axes: [Aa(samples: [1, 4], pattern: [Grid])])", "s.ron").unwrap_err();
+        assert!(e.starts_with("s.ron:1:"), "{e}");
+        let e = SweepDesc::parse("Sweep(axes: [Lens(samples: [0])])", "s.ron").unwrap_err();
+        assert!(e.contains("sample count 0 is not in 1..=4096"), "{e}");
+        let e = SweepDesc::parse("Sweep(axes: [])", "s.ron").unwrap_err();
+        assert!(e.contains("no axis"), "{e}");
+    }
+}

@@ -1,0 +1,204 @@
+//! `penumbra report`: every output file from a tiny scene, error falling as samples rise,
+//! a default sweep that covers only the effects a scene uses, and an HTML page that loads in
+//! headless Chromium with its plots and no console error.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const BIN: &str = env!("CARGO_BIN_EXE_penumbra");
+
+/// A small scene with hard edges (so anti-aliasing matters) and, optionally, an area light.
+fn scene(area_light: bool) -> String {
+    let light = match area_light {
+        true => "Rect(corner: (-1, 4, -1), edge_u: (2, 0, 0), edge_v: (0, 0, 2), samples: 4)",
+        false => "Point(position: (-2, 4, -3), intensity: 0.9)",
+    };
+    format!(
+        r#"Scene(
+    camera: (position: (0, 1.2, -5), look_at: (0, 0.6, 0), fov_deg: 40, width: 40, height: 30),
+    settings: (max_depth: 2, background: (0.1, 0.12, 0.2), ambient: (0.1, 0.1, 0.1), seed: 9),
+    materials: [(name: "white", kd: (0.8, 0.8, 0.8)), (name: "red", kd: (0.8, 0.1, 0.1))],
+    lights: [{light}],
+    objects: [
+        (name: "floor", shape: Plane(point: (0, 0, 0), normal: (0, 1, 0)), material: "white"),
+        (name: "ball", shape: Sphere(centre: (0, 0.6, 0), radius: 0.6), material: "red"),
+        (name: "box", shape: Box(min: (0.8, 0, -0.5), max: (1.6, 1.2, 0.3)), material: "white"),
+    ],
+)"#
+    )
+}
+
+fn report(dir: &Path, area_light: bool, extra: &[&str]) -> PathBuf {
+    std::fs::write(dir.join("scene.ron"), scene(area_light)).unwrap();
+    let out = Command::new(BIN)
+        .current_dir(dir)
+        .args(["report", "scene.ron", "-o", "report", "--runs", "1", "--quiet"])
+        .args(extra)
+        .output()
+        .expect("the binary runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    dir.join("report")
+}
+
+/// (axis, label, rmse, ssim) of every row of results.csv.
+fn rows(report: &Path) -> Vec<(String, String, f64, f64)> {
+    let text = std::fs::read_to_string(report.join("results.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col =
+        |name: &str| header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no column {name}"));
+    let (axis, label, rmse, ssim) = (col("axis"), col("label"), col("rmse"), col("ssim"));
+    lines
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            (f[axis].to_owned(), f[label].to_owned(), f[rmse].parse().unwrap(), f[ssim].parse().unwrap())
+        })
+        .collect()
+}
+
+#[test]
+fn a_sweep_writes_every_output_and_error_falls_as_samples_rise() {
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::write(
+        tmp.path().join("sweep.ron"),
+        "Sweep(axes: [Aa(samples: [1, 4, 16, 64]), AreaLight(samples: [1, 4, 16, 64])], reference: (aa: 256, area_light: 256))",
+    )
+    .unwrap();
+    let dir = report(tmp.path(), true, &["--sweep", "sweep.ron"]);
+    for file in [
+        "results.csv",
+        "results.json",
+        "index.html",
+        "reference.png",
+        "error_vs_time.png",
+        "error_vs_time.svg",
+        "rays_vs_error.png",
+        "rays_vs_error.svg",
+        "effect_costs.png",
+        "effect_costs.svg",
+    ] {
+        assert!(dir.join(file).is_file(), "{file} is missing");
+    }
+    let rows = rows(&dir);
+    assert_eq!(rows.len(), 8);
+    for axis in ["aa", "area_light"] {
+        let errors: Vec<f64> = rows.iter().filter(|r| r.0 == axis).map(|r| r.2).collect();
+        assert!(errors.windows(2).all(|w| w[1] < w[0]), "{axis}: RMSE must fall as samples rise: {errors:?}");
+        let ssims: Vec<f64> = rows.iter().filter(|r| r.0 == axis).map(|r| r.3).collect();
+        assert!(ssims.first() < ssims.last() && ssims.iter().all(|s| *s <= 1.0), "{axis}: {ssims:?}");
+    }
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("results.json")).unwrap()).unwrap();
+    let points = json["points"].as_array().unwrap();
+    assert_eq!(points.len(), 8);
+    for p in points {
+        assert!(
+            dir.join(p["image"].as_str().unwrap()).is_file()
+                && dir.join(p["heatmap"].as_str().unwrap()).is_file()
+        );
+    }
+}
+
+#[test]
+fn the_default_sweep_of_a_scene_without_area_lights_has_no_area_light_axis() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = report(tmp.path(), false, &["--width", "16", "--height", "12"]);
+    let axes: std::collections::BTreeSet<String> = rows(&dir).into_iter().map(|r| r.0).collect();
+    assert_eq!(axes.into_iter().collect::<Vec<_>>(), ["aa", "adaptive"]);
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = report(tmp.path(), true, &["--width", "16", "--height", "12"]);
+    assert!(rows(&dir).iter().any(|r| r.0 == "area_light"), "with an area light, its axis is swept");
+}
+
+#[test]
+fn a_reference_read_from_a_file_equal_to_a_variant_gives_zero_error() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::write(dir.join("scene.ron"), scene(false)).unwrap();
+    std::fs::write(dir.join("sweep.ron"), "Sweep(axes: [Aa(samples: [4, 16])])").unwrap();
+    // The reference is the 16-sample render itself: that point must have RMSE 0, PSNR ∞, SSIM 1.
+    let rendered = Command::new(BIN)
+        .current_dir(dir)
+        .args(["render", "scene.ron", "-o", "ref.exr", "--format", "exr-float", "--samples", "aa=16"])
+        .output()
+        .unwrap();
+    assert!(rendered.status.success(), "{}", String::from_utf8_lossy(&rendered.stderr));
+    let out = report(dir, false, &["--sweep", "sweep.ron", "--reference", "ref.exr"]);
+    let text = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    let row = text.lines().find(|l| l.contains("aa 16")).unwrap();
+    assert!(row.contains(",0.000000e0,inf,1.000000,"), "{row}");
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("results.json")).unwrap()).unwrap();
+    assert_eq!(json["points"][1]["psnr"], "inf");
+}
+
+#[test]
+fn the_page_loads_in_headless_chromium_with_its_plots_and_no_console_error() {
+    let Some(chromium) = ["chromium", "chromium-browser", "google-chrome"].iter().find_map(|name| {
+        let found = Command::new("which").arg(name).output().ok()?;
+        found.status.success().then(|| String::from_utf8_lossy(&found.stdout).trim().to_owned())
+    }) else {
+        eprintln!(
+            "SKIPPED: no Chromium on this machine (install the Debian package `chromium`; .ci/run does)"
+        );
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = report(tmp.path(), false, &["--width", "16", "--height", "12"]);
+    // A checker page loads the report in a frame and lists every image that failed to load.
+    std::fs::write(
+        dir.join("check.html"),
+        r#"<!doctype html><html><body><iframe id="r" src="index.html" width="1200" height="900"></iframe>
+<pre id="result">pending</pre>
+<script>
+document.getElementById('r').addEventListener('load', () => {
+  const doc = document.getElementById('r').contentDocument;
+  const images = Array.from(doc.images);
+  const check = () => {
+    const broken = images.filter(i => !(i.complete && i.naturalWidth > 0)).map(i => i.getAttribute('src'));
+    const plots = images.filter(i => /error_vs_time|rays_vs_error|effect_costs/.test(i.getAttribute('src') || ''));
+    document.getElementById('result').textContent =
+      'IMAGES=' + images.length + ' PLOTS=' + plots.length + ' BROKEN=' + JSON.stringify(broken);
+  };
+  images.forEach(i => { i.loading = 'eager'; });
+  Promise.all(images.map(i => i.decode().catch(() => {}))).then(check);
+});
+</script></body></html>"#,
+    )
+    .unwrap();
+    let out = Command::new(&chromium)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--allow-file-access-from-files",
+            "--enable-logging=stderr",
+            "--v=0",
+            "--virtual-time-budget=10000",
+            "--dump-dom",
+        ])
+        .arg(format!("--user-data-dir={}", tmp.path().join("profile").display()))
+        .arg(format!("file://{}", dir.join("check.html").display()))
+        .output()
+        .expect("chromium runs");
+    let dom = String::from_utf8_lossy(&out.stdout);
+    let log = String::from_utf8_lossy(&out.stderr);
+    let result = dom.split("<pre id=\"result\">").nth(1).and_then(|r| r.split("</pre>").next()).unwrap_or("");
+    assert!(result.contains("BROKEN=[]"), "images failed to load: {result}\n{log}");
+    let plots: usize = result
+        .split("PLOTS=")
+        .nth(1)
+        .and_then(|p| p.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(0);
+    assert!(plots >= 3, "the three plots are shown: {result}");
+    let console_errors: Vec<&str> = log
+        .lines()
+        .filter(|l| l.contains("CONSOLE") && (l.contains("rror") || l.contains("Failed to load")))
+        .collect();
+    assert!(console_errors.is_empty(), "console errors: {console_errors:?}");
+}
