@@ -213,7 +213,7 @@ struct ErrorData {
     left_out: usize,
 }
 
-/// Groups the drawable points by axis; `None` when none is drawable.
+/// Groups the drawable points by axis (and AA pattern); `None` when none is drawable.
 fn error_data(report: &Report, x_of: impl Fn(&Point) -> f64) -> Option<ErrorData> {
     let drawable = |p: &Point| {
         let x = x_of(p);
@@ -241,9 +241,14 @@ fn error_data(report: &Report, x_of: impl Fn(&Point) -> f64) -> Option<ErrorData
             zeros += 1;
             floor
         };
-        match series.iter_mut().find(|s| s.name == p.axis) {
+        // One curve per axis, and per pattern where the axis sweeps patterns too.
+        let name = match p.params.iter().find(|(k, _)| k == "pattern") {
+            Some((_, pattern)) => format!("{} {pattern}", p.axis),
+            None => p.axis.clone(),
+        };
+        match series.iter_mut().find(|s| s.name == name) {
             Some(s) => s.points.push((x_of(p), y, i)),
-            None => series.push(Series { name: p.axis.clone(), points: vec![(x_of(p), y, i)] }),
+            None => series.push(Series { name, points: vec![(x_of(p), y, i)] }),
         }
     }
     let all = || series.iter().flat_map(|s| s.points.iter());
