@@ -244,7 +244,7 @@ fn judge(scene: &TraceScene, q: &Query, grid: Option<Hit>, brute: Option<Hit>) -
             let again = if g.object & penumbra::store::UNBOUNDED_FLAG != 0 {
                 None
             } else {
-                scene.store.intersect_bounded(g.object, &q.ray, q.t_min, q.t_max)
+                scene.store.intersect_bounded(g.object, &q.ray, q.t_min, q.t_max, &mut Default::default())
             };
             if again.is_some_and(|h| h.t == g.t) {
                 Verdict::Tie
@@ -362,7 +362,7 @@ fn transmittance_brute(scene: &TraceScene, ray: &Ray, t_max: f32) -> f32 {
     }
     for id in 0..store.bounded_count() {
         let mut t_lo = 0.0;
-        while let Some(h) = store.intersect_bounded(id, ray, t_lo, t_max) {
+        while let Some(h) = store.intersect_bounded(id, ray, t_lo, t_max, &mut Default::default()) {
             pass *= kt(&h);
             t_lo = h.t;
         }

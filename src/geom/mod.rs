@@ -5,6 +5,7 @@
 //! Rays are unit length in world space.
 
 pub mod cuboid;
+pub mod mesh;
 pub mod plane;
 pub mod polygon;
 pub mod sphere;
@@ -46,7 +47,18 @@ pub enum Shape {
         /// Maximum corner.
         max: Vec3,
     },
+    /// An instance of a triangle mesh asset (shared by every instance of it).
+    Mesh {
+        /// The asset.
+        mesh: MeshId,
+        /// Object-space bounds of the asset.
+        bounds: Aabb,
+    },
 }
+
+/// Index of a mesh asset in the scene's mesh table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
+pub struct MeshId(pub u32);
 
 /// Geometry placed in the world: what the grid indexes and the snapshot flattens.
 #[derive(Debug, Clone, PartialEq)]
@@ -65,7 +77,7 @@ pub enum Placed {
         /// Plane offset along the normal.
         offset: f32,
     },
-    /// World-space triangles as `[v0, e1, e2]` (a polygon becomes a fan).
+    /// World-space triangles as vertex triples (a polygon becomes a fan).
     Triangles(Vec<[Vec3; 3]>),
     /// A box: object-space corners and the maps between object and world space.
     Cuboid {
@@ -77,6 +89,17 @@ pub enum Placed {
         min: Vec3,
         /// Object-space maximum corner.
         max: Vec3,
+    },
+    /// A mesh instance: the asset and the maps between its object space and the world.
+    Instance {
+        /// The asset.
+        mesh: MeshId,
+        /// World-to-object map (rays enter the asset's grid through it).
+        to_object: Affine3A,
+        /// Object-to-world map.
+        to_world: Affine3A,
+        /// World bounds: the asset's bounds transformed.
+        bounds: Aabb,
     },
 }
 
@@ -105,6 +128,12 @@ impl Shape {
             Shape::Cuboid { min, max } => {
                 Placed::Cuboid { to_object: to_world.inverse(), to_world: *to_world, min: *min, max: *max }
             }
+            Shape::Mesh { mesh, bounds } => Placed::Instance {
+                mesh: *mesh,
+                to_object: to_world.inverse(),
+                to_world: *to_world,
+                bounds: transform_bounds(to_world, bounds),
+            },
         }
     }
 }
@@ -115,23 +144,37 @@ impl Placed {
         match self {
             Placed::Sphere { centre, radius } => Some(sphere::bounds(*centre, *radius)),
             Placed::Plane { .. } => None,
-            Placed::Triangles(tris) => Some(
-                tris.iter().fold(Aabb::EMPTY, |b, [v0, e1, e2]| b.union(triangle::bounds(*v0, *e1, *e2))),
-            ),
+            Placed::Triangles(tris) => {
+                Some(tris.iter().fold(Aabb::EMPTY, |b, [v0, v1, v2]| b.union(triangle::bounds(*v0, *v1, *v2))))
+            }
             Placed::Cuboid { to_world, min, max, .. } => Some(cuboid::bounds(to_world, *min, *max)),
+            Placed::Instance { bounds, .. } => Some(*bounds),
         }
     }
 
     /// True when the geometry may touch the cell: exact for spheres and triangles, bounds for
-    /// boxes. Conservative: never false for a cell the geometry touches.
+    /// boxes and mesh instances (whose triangles their own grid sorts). Conservative: never
+    /// false for a cell the geometry touches.
     pub fn overlaps(&self, cell: &Aabb) -> bool {
         match self {
             Placed::Sphere { centre, radius } => sphere::overlaps_box(*centre, *radius, cell),
             Placed::Plane { .. } => true,
             Placed::Triangles(tris) => {
-                tris.iter().any(|[v0, e1, e2]| triangle::overlaps_box(*v0, *e1, *e2, cell))
+                tris.iter().any(|[v0, v1, v2]| triangle::overlaps_box(*v0, *v1, *v2, cell))
             }
-            Placed::Cuboid { .. } => self.bounds().is_some_and(|b| b.overlaps(cell)),
+            Placed::Cuboid { .. } | Placed::Instance { .. } => self.bounds().is_some_and(|b| b.overlaps(cell)),
         }
     }
+}
+
+/// The world bounds of an object-space box under `to_world`, grown by a relative hair so that
+/// rounding in the transform never leaves a point of the instance outside them.
+pub fn transform_bounds(to_world: &Affine3A, b: &Aabb) -> Aabb {
+    if b.is_empty() {
+        return Aabb::EMPTY;
+    }
+    let w = b.transformed(to_world);
+    let size = w.extent().max_element().max(w.min.abs().max_element()).max(w.max.abs().max_element());
+    let pad = Vec3::splat(size * 1e-6);
+    Aabb::new(w.min - pad, w.max + pad)
 }

@@ -1,4 +1,14 @@
-//! Triangle stored as a vertex and two edges, intersected with Möller–Trumbore.
+//! Triangle given by its three vertices, intersected with the watertight test of Woop, Benthin
+//! and Wald (2013).
+//!
+//! The ray is turned once into a [`WatertightRay`]: the axis where its direction is largest
+//! becomes z, and a shear maps the direction onto +z. Each vertex is then sheared relative to
+//! the ray origin and the three 2D edge functions `U`, `V`, `W` decide the hit. Two triangles
+//! sharing an edge compute that edge's function from the same two sheared vertices in opposite
+//! order, so one gets exactly the negation of the other: no ray slips between them. A ray that
+//! meets an edge or a vertex exactly (a function is exactly 0, also after the f64 re-check the
+//! paper prescribes) is given to exactly one of the triangles around it by a tie-break that
+//! treats the ray as nudged by an infinitesimal fixed offset in the sheared plane.
 
 use crate::math::{Aabb, Ray, Vec3};
 
@@ -13,55 +23,134 @@ pub struct TriangleHit {
     pub v: f32,
 }
 
-/// The bounds of a triangle given by `v0` and edges `e1 = v1 - v0`, `e2 = v2 - v0`.
-#[inline]
-pub fn bounds(v0: Vec3, e1: Vec3, e2: Vec3) -> Aabb {
-    Aabb::from_points([v0, v0 + e1, v0 + e2])
+/// A ray prepared for watertight triangle tests: axis permutation and shear constants.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WatertightRay {
+    /// Ray origin.
+    pub origin: Vec3,
+    kx: usize,
+    ky: usize,
+    kz: usize,
+    sx: f32,
+    sy: f32,
+    sz: f32,
 }
 
-/// Möller–Trumbore intersection within `(t_min, t_max)`; both faces are hit.
-///
-/// Edge tests are inclusive (`u ≥ 0`, `v ≥ 0`, `u + v ≤ 1`), so a ray through a shared edge is
-/// never lost between two triangles.
+impl WatertightRay {
+    /// Prepares `ray` (any non-zero direction; it need not be unit length).
+    #[inline]
+    pub fn new(ray: &Ray) -> Self {
+        let a = ray.dir.abs();
+        let kz = if a.x >= a.y && a.x >= a.z {
+            0
+        } else if a.y >= a.z {
+            1
+        } else {
+            2
+        };
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        // Keep the winding: a negative z axis swaps the other two.
+        if ray.dir[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        let dz = ray.dir[kz];
+        Self { origin: ray.origin, kx, ky, kz, sx: ray.dir[kx] / dz, sy: ray.dir[ky] / dz, sz: 1.0 / dz }
+    }
+
+    /// A vertex relative to the origin, sheared: `(x, y)` in the ray's plane, `z` along it.
+    #[inline]
+    fn shear(&self, p: Vec3) -> (f32, f32, f32) {
+        let a = p - self.origin;
+        (a[self.kx] - self.sx * a[self.kz], a[self.ky] - self.sy * a[self.kz], self.sz * a[self.kz])
+    }
+}
+
+/// The bounds of the triangle `v0 v1 v2`.
 #[inline]
-pub fn intersect(v0: Vec3, e1: Vec3, e2: Vec3, ray: &Ray, t_min: f32, t_max: f32) -> Option<TriangleHit> {
-    let p = ray.dir.cross(e2);
-    let det = e1.dot(p);
+pub fn bounds(v0: Vec3, v1: Vec3, v2: Vec3) -> Aabb {
+    Aabb::from_points([v0, v1, v2])
+}
+
+/// Watertight intersection within `(t_min, t_max)`; both faces are hit; a degenerate
+/// (zero-area) triangle is never hit.
+#[inline]
+pub fn intersect(v0: Vec3, v1: Vec3, v2: Vec3, ray: &WatertightRay, t_min: f32, t_max: f32) -> Option<TriangleHit> {
+    let (ax, ay, az) = ray.shear(v0);
+    let (bx, by, bz) = ray.shear(v1);
+    let (cx, cy, cz) = ray.shear(v2);
+    // Edge functions: U for edge v1→v2 (weight of v0), V for v2→v0, W for v0→v1.
+    let mut u = cx * by - cy * bx;
+    let mut v = ax * cy - ay * cx;
+    let mut w = bx * ay - by * ax;
+    if u == 0.0 || v == 0.0 || w == 0.0 {
+        // Exactly on an edge in f32: decide in f64, where these products are exact.
+        let (ax, ay, bx, by, cx, cy) = (ax as f64, ay as f64, bx as f64, by as f64, cx as f64, cy as f64);
+        u = (cx * by - cy * bx) as f32;
+        v = (ax * cy - ay * cx) as f32;
+        w = (bx * ay - by * ax) as f32;
+    }
+    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        return None;
+    }
+    let det = u + v + w;
     if det == 0.0 {
         return None;
     }
-    let inv_det = 1.0 / det;
-    let s = ray.origin - v0;
-    let u = s.dot(p) * inv_det;
-    if !(0.0..=1.0).contains(&u) {
+    // Points exactly on an edge belong to one side only (see the module docs).
+    let positive = det > 0.0;
+    if (u == 0.0 && !owns_edge(cx, cy, bx, by, positive))
+        || (v == 0.0 && !owns_edge(ax, ay, cx, cy, positive))
+        || (w == 0.0 && !owns_edge(bx, by, ax, ay, positive))
+    {
         return None;
     }
-    let q = s.cross(e1);
-    let v = ray.dir.dot(q) * inv_det;
-    if v < 0.0 || u + v > 1.0 {
+    let t = (u * az + v * bz + w * cz) / det;
+    if !(t > t_min && t < t_max) {
         return None;
     }
-    let t = e2.dot(q) * inv_det;
-    (t > t_min && t < t_max).then_some(TriangleHit { t, u, v })
+    Some(TriangleHit { t, u: v / det, v: w / det })
 }
 
-/// Unit geometric normal (`e1 × e2`, counter-clockwise front).
+/// Whether a ray exactly on the edge whose function is `f.x * g.y - f.y * g.x` counts as
+/// inside: true when nudging the ray by `(1, δ)` (δ → 0⁺) in the sheared plane moves it to the
+/// inside. The function's gradient with respect to the ray position is `(f.y - g.y, g.x - f.x)`;
+/// the two triangles on an edge see it with swapped `f`, `g` and agree on which one owns it.
 #[inline]
-pub fn normal(e1: Vec3, e2: Vec3) -> Vec3 {
-    e1.cross(e2).normalize()
+fn owns_edge(fx: f32, fy: f32, gx: f32, gy: f32, positive: bool) -> bool {
+    let (dx, dy) = (fy - gy, gx - fx);
+    let towards = if dx != 0.0 { dx > 0.0 } else { dy > 0.0 };
+    towards == positive
+}
+
+/// Unit geometric normal (`(v1 - v0) × (v2 - v0)`, counter-clockwise front). Zero-area
+/// triangles, which are never hit, give `+Y` rather than NaN.
+#[inline]
+pub fn normal(v0: Vec3, v1: Vec3, v2: Vec3) -> Vec3 {
+    (v1 - v0).cross(v2 - v0).try_normalize().unwrap_or(Vec3::Y)
 }
 
 /// True when the triangle overlaps the box: separating-axis test of Akenine-Möller
 /// (box axes, triangle normal and the nine edge cross products). Exact, not a bounds test.
-pub fn overlaps_box(v0: Vec3, e1: Vec3, e2: Vec3, cell: &Aabb) -> bool {
+pub fn overlaps_box(v0: Vec3, v1: Vec3, v2: Vec3, cell: &Aabb) -> bool {
     let centre = (cell.min + cell.max) * 0.5;
     let half = (cell.max - cell.min) * 0.5;
     let a = v0 - centre;
-    let b = a + e1;
-    let c = a + e2;
-    let edges = [e1, e2 - e1, -e2];
+    let b = v1 - centre;
+    let c = v2 - centre;
+    // The three box axes first: triangle bounds against the box (the cheapest rejection).
+    let lo = a.min(b).min(c);
+    let hi = a.max(b).max(c);
+    if lo.cmpgt(half).any() || hi.cmplt(-half).any() {
+        return false;
+    }
+    // The triangle's plane.
+    let n = (b - a).cross(c - a);
+    if n.dot(a).abs() > half.dot(n.abs()) {
+        return false;
+    }
     // The nine axes edge × box-axis.
-    for edge in edges {
+    for edge in [b - a, c - b, a - c] {
         for axis in [Vec3::X, Vec3::Y, Vec3::Z] {
             let l = axis.cross(edge);
             let (pa, pb, pc) = (a.dot(l), b.dot(l), c.dot(l));
@@ -71,39 +160,75 @@ pub fn overlaps_box(v0: Vec3, e1: Vec3, e2: Vec3, cell: &Aabb) -> bool {
             }
         }
     }
-    // The three box axes: triangle bounds against the box.
-    let lo = a.min(b).min(c);
-    let hi = a.max(b).max(c);
-    if lo.cmpgt(half).any() || hi.cmplt(-half).any() {
-        return false;
-    }
-    // The triangle's plane.
-    let n = e1.cross(e2);
-    let r = half.dot(n.abs());
-    n.dot(a).abs() <= r
+    true
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    fn hit(v: [Vec3; 3], ray: Ray) -> Option<TriangleHit> {
+        intersect(v[0], v[1], v[2], &WatertightRay::new(&ray), 0.0, f32::INFINITY)
+    }
+
     #[test]
     fn barycentrics_match_hit_point() {
-        let (v0, v1, v2) = (Vec3::ZERO, Vec3::X, Vec3::Y);
-        let ray = Ray::new(Vec3::new(0.25, 0.5, -1.0), Vec3::Z);
-        let hit = intersect(v0, v1 - v0, v2 - v0, &ray, 0.0, f32::INFINITY).unwrap();
-        assert_eq!((hit.t, hit.u, hit.v), (1.0, 0.25, 0.5));
+        let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        let h = hit(tri, Ray::new(Vec3::new(0.25, 0.5, -1.0), Vec3::Z)).unwrap();
+        assert_eq!((h.t, h.u, h.v), (1.0, 0.25, 0.5));
+        // From behind, along a non-unit direction: same point, t scaled.
+        let h = hit(tri, Ray::new(Vec3::new(0.25, 0.5, 2.0), Vec3::new(0.0, 0.0, -2.0))).unwrap();
+        assert_eq!((h.t, h.u, h.v), (1.0, 0.25, 0.5));
+    }
+
+    #[test]
+    fn t_range_is_open_at_both_ends() {
+        let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        let r = WatertightRay::new(&Ray::new(Vec3::new(0.2, 0.2, -1.0), Vec3::Z));
+        assert!(intersect(tri[0], tri[1], tri[2], &r, 1.0, 2.0).is_none());
+        assert!(intersect(tri[0], tri[1], tri[2], &r, 0.0, 1.0).is_none());
+        assert!(intersect(tri[0], tri[1], tri[2], &r, 0.5, 1.5).is_some());
+    }
+
+    #[test]
+    fn degenerate_triangles_are_never_hit_and_have_a_finite_normal() {
+        let line = [Vec3::ZERO, Vec3::X, Vec3::X * 2.0];
+        assert!(hit(line, Ray::new(Vec3::new(0.5, 0.0, -1.0), Vec3::Z)).is_none());
+        let point = [Vec3::ONE; 3];
+        assert!(hit(point, Ray::new(Vec3::new(1.0, 1.0, -1.0), Vec3::Z)).is_none());
+        assert!(normal(line[0], line[1], line[2]).is_finite());
+    }
+
+    #[test]
+    fn a_ray_through_a_shared_edge_or_vertex_hits_exactly_one_triangle() {
+        // A square split along its diagonal, and a fan of six triangles around a centre vertex.
+        let (a, b, c, d) = (Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y);
+        let square = [[a, b, c], [a, c, d]];
+        let centre = Vec3::new(0.3, 0.2, 0.0);
+        let ring: Vec<Vec3> = (0..6)
+            .map(|k| {
+                let phi = k as f32 * std::f32::consts::TAU / 6.0;
+                centre + Vec3::new(phi.cos(), phi.sin(), 0.0)
+            })
+            .collect();
+        let fan: Vec<[Vec3; 3]> = (0..6).map(|k| [centre, ring[k], ring[(k + 1) % 6]]).collect();
+        for dir in [Vec3::Z, -Vec3::Z, Vec3::new(0.3, -0.2, 1.0), Vec3::new(-0.7, 0.1, -0.4)] {
+            for (tris, target) in [(&square[..], Vec3::new(0.5, 0.5, 0.0)), (&fan[..], centre)] {
+                let ray = Ray::new(target - dir * 3.0, dir);
+                let hits = tris.iter().filter(|t| hit(**t, ray).is_some()).count();
+                assert_eq!(hits, 1, "dir {dir:?} target {target:?}");
+            }
+        }
     }
 
     #[test]
     fn box_overlap_is_exact_not_bounds() {
         // A diagonal triangle whose bounds cover the cell corner but whose surface does not.
-        let v0 = Vec3::new(1.0, 0.0, 0.0);
-        let (e1, e2) = (Vec3::new(-1.0, 1.0, 0.0), Vec3::new(-1.0, 0.0, 1.0));
+        let (v0, v1, v2) = (Vec3::X, Vec3::Y, Vec3::Z);
         let corner = Aabb::new(Vec3::ZERO, Vec3::splat(0.2));
-        assert!(bounds(v0, e1, e2).overlaps(&corner));
-        assert!(!overlaps_box(v0, e1, e2, &corner));
+        assert!(bounds(v0, v1, v2).overlaps(&corner));
+        assert!(!overlaps_box(v0, v1, v2, &corner));
         let through = Aabb::new(Vec3::splat(0.3), Vec3::splat(0.4));
-        assert!(overlaps_box(v0, e1, e2, &through));
+        assert!(overlaps_box(v0, v1, v2, &through));
     }
 }

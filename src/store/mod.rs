@@ -2,12 +2,25 @@
 //! be monomorphized over different memory layouts and benchmarked on identical code paths.
 //!
 //! Objects are numbered by the caller: bounded objects `0..bounded_count()` in the order the
-//! grid indexes them, unbounded ones (planes) tested on every ray.
+//! grid indexes them, unbounded ones (planes) tested on every ray. Mesh instances are bounded
+//! objects that point at a shared [`MeshEntry`]: the bottom level of the two-level grid.
+//!
+//! Two layouts implement the trait on one code path: [`SoaStore`] (one array per coordinate)
+//! and [`AosStore`] (one struct per primitive). The tracer is generic over the store, so the
+//! `--layout` benchmark compares memory layout and nothing else.
 
+pub mod aos;
+pub mod mesh;
 pub mod soa;
 
-pub use soa::SoaStore;
+use std::sync::Arc;
 
+pub use aos::{AosStore, AosTriangles};
+pub use mesh::{MeshAsset, MeshEntry};
+pub use soa::{SoaStore, SoaTriangles};
+
+use crate::geom::mesh::MeshData;
+use crate::geom::triangle::{TriangleHit, WatertightRay};
 use crate::geom::Placed;
 use crate::math::{Ray, Vec3};
 
@@ -25,8 +38,36 @@ pub struct Hit {
     pub t: f32,
     /// Object: a bounded object id, or a plane index with [`UNBOUNDED_FLAG`] set.
     pub object: u32,
-    /// Detail within the object: the triangle index of a triangle set, the face axis of a box.
+    /// Detail within the object: the triangle index of a triangle set or mesh, the face code
+    /// of a box.
     pub prim: u32,
+    /// Barycentric weight of the triangle's second vertex (0 for other shapes).
+    pub u: f32,
+    /// Barycentric weight of the triangle's third vertex (0 for other shapes).
+    pub v: f32,
+}
+
+impl Hit {
+    /// A hit with no barycentrics (spheres, boxes, planes).
+    #[inline]
+    pub fn new(t: f32, object: u32, prim: u32) -> Self {
+        Self { t, object, prim, u: 0.0, v: 0.0 }
+    }
+
+    /// A triangle hit.
+    #[inline]
+    pub fn triangle(object: u32, prim: u32, h: &TriangleHit) -> Self {
+        Self { t: h.t, object, prim, u: h.u, v: h.v }
+    }
+}
+
+/// What one ray's traversal cost: grid cells visited and primitives tested, both levels.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct TraversalCost {
+    /// Cells visited (top level and mesh grids).
+    pub cells: u32,
+    /// Primitive intersection tests (objects and triangles).
+    pub tests: u32,
 }
 
 /// What shading needs of a hit point.
@@ -36,6 +77,8 @@ pub struct SurfacePoint {
     pub point: Vec3,
     /// Unit geometric normal (outward for closed shapes; front side for flat ones).
     pub normal: Vec3,
+    /// Unit shading normal: the interpolated vertex normal of a smooth mesh, else `normal`.
+    pub shading: Vec3,
     /// Material of the object hit.
     pub material: MaterialId,
 }
@@ -49,22 +92,115 @@ pub struct PlacedObject {
     pub material: MaterialId,
 }
 
+/// A layout of triangles: the bottom level's hot data.
+pub trait TriangleLayout: Send + Sync + Sized + std::fmt::Debug + 'static {
+    /// Lays out a mesh's triangles in index order.
+    fn from_mesh(mesh: &MeshData) -> Self;
+    /// Lays out triangles given by their vertices.
+    fn from_vertices(tris: impl IntoIterator<Item = [Vec3; 3]>) -> Self;
+    /// Number of triangles.
+    fn len(&self) -> u32;
+    /// True when there are none.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// The vertices of triangle `i`.
+    fn vertices(&self, i: u32) -> [Vec3; 3];
+    /// Watertight test of triangle `i` within `(t_min, t_max)`.
+    fn intersect(&self, i: u32, ray: &WatertightRay, t_min: f32, t_max: f32) -> Option<TriangleHit>;
+    /// Bytes held.
+    fn memory_bytes(&self) -> usize;
+}
+
 /// A layout of flattened primitives that the tracer can intersect.
-pub trait PrimitiveStore: Send + Sync + Sized + std::fmt::Debug {
-    /// Builds the store: `bounded` in grid-id order, `unbounded` (planes) in any order.
-    fn build(bounded: &[PlacedObject], unbounded: &[PlacedObject]) -> Self;
+pub trait PrimitiveStore: Send + Sync + Sized + std::fmt::Debug + 'static {
+    /// The layout of mesh triangles in this store.
+    type Triangles: TriangleLayout;
+    /// Builds the store: `bounded` in grid-id order, `unbounded` (planes) in any order;
+    /// mesh instances index `meshes` by their [`crate::geom::MeshId`].
+    fn build(
+        bounded: &[PlacedObject],
+        unbounded: &[PlacedObject],
+        meshes: &[Arc<MeshEntry<Self::Triangles>>],
+    ) -> Self;
     /// Number of bounded objects.
     fn bounded_count(&self) -> u32;
-    /// Nearest hit with bounded object `id` in `(t_min, t_max)`.
-    fn intersect_bounded(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit>;
+    /// Nearest hit with bounded object `id` in `(t_min, t_max)`, adding its cost.
+    fn intersect_bounded(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32, cost: &mut TraversalCost)
+        -> Option<Hit>;
+    /// True when bounded object `id` is hit anywhere in `(t_min, t_max)`.
+    fn occludes_bounded(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32, cost: &mut TraversalCost) -> bool {
+        self.intersect_bounded(id, ray, t_min, t_max, cost).is_some()
+    }
+    /// Nearest hit with bounded object `id` testing every triangle of a mesh (no mesh grid):
+    /// the reference the two-level grid is checked against.
+    fn intersect_bounded_brute(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit>;
     /// Number of unbounded objects.
     fn unbounded_count(&self) -> u32;
     /// Hit with unbounded object `i` in `(t_min, t_max)`.
     fn intersect_unbounded(&self, i: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit>;
     /// Material of the object hit.
     fn material(&self, hit: &Hit) -> MaterialId;
-    /// Position, normal and material at a hit.
+    /// Position, normals and material at a hit.
     fn surface(&self, hit: &Hit, ray: &Ray) -> SurfacePoint;
-    /// Bytes held by the store's arrays.
+    /// Bytes held by the store's own arrays (shared mesh layouts excluded).
     fn memory_bytes(&self) -> usize;
+    /// The mesh table the store was built with.
+    fn meshes(&self) -> &[Arc<MeshEntry<Self::Triangles>>];
+}
+
+/// Nearest hit among triangles `first..first + count` of a layout (a scene triangle or polygon).
+#[inline]
+pub(crate) fn triangle_range_hit<L: TriangleLayout>(
+    tris: &L,
+    object: u32,
+    first: u32,
+    count: u32,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+) -> Option<Hit> {
+    let wray = WatertightRay::new(ray);
+    let mut best = None;
+    let mut t_best = t_max;
+    for i in first..first + count {
+        if let Some(h) = tris.intersect(i, &wray, t_min, t_best) {
+            t_best = h.t;
+            best = Some(Hit::triangle(object, i - first, &h));
+        }
+    }
+    best
+}
+
+/// A box hit with its face encoded in `prim`: axis in the low bits, sign in bit 2.
+#[inline]
+pub(crate) fn cuboid_hit(
+    to_object: &crate::math::Affine3A,
+    min: Vec3,
+    max: Vec3,
+    object: u32,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+) -> Option<Hit> {
+    crate::geom::cuboid::intersect(to_object, min, max, ray, t_min, t_max).map(|h| {
+        let n = h.local_normal;
+        let axis = if n.x != 0.0 {
+            0
+        } else if n.y != 0.0 {
+            1
+        } else {
+            2
+        };
+        let negative = (n[axis] < 0.0) as u32;
+        Hit::new(h.t, object, axis as u32 | negative << 2)
+    })
+}
+
+/// World normal of the box face encoded by [`cuboid_hit`].
+#[inline]
+pub(crate) fn cuboid_normal(to_object: &crate::math::Affine3A, face: u32) -> Vec3 {
+    let mut local = Vec3::ZERO;
+    local[(face & 3) as usize] = if face & 4 != 0 { -1.0 } else { 1.0 };
+    crate::geom::cuboid::world_normal(to_object, local)
 }

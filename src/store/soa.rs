@@ -1,20 +1,27 @@
 //! Structure-of-arrays store: one array per coordinate, as Embree's `RTCRay4` lays out rays.
 //!
-//! Bounded objects are a kind tag plus a range into that kind's arrays (a polygon is a range
-//! of fan triangles). Triangles keep `v0` and the precomputed edges `e1`, `e2`; boxes keep the
-//! world-to-object map as four column arrays per axis.
+//! Bounded objects are a kind tag plus an index into that kind's arrays (a polygon is a range
+//! of fan triangles, a mesh instance an index into the instance arrays). Triangles keep their
+//! three vertices per axis (`v0_x`, ...), the watertight test's input; boxes and instances keep
+//! the world-to-object map as four column arrays per axis.
 
-use super::{Hit, MaterialId, PlacedObject, PrimitiveStore, SurfacePoint, UNBOUNDED_FLAG};
-use crate::geom::{cuboid, plane, sphere, triangle, Placed};
+use std::sync::Arc;
+
+use super::mesh::{self, MeshEntry};
+use super::{Hit, MaterialId, PlacedObject, PrimitiveStore, SurfacePoint, TraversalCost, TriangleLayout};
+use crate::geom::mesh::MeshData;
+use crate::geom::triangle::{self, TriangleHit, WatertightRay};
+use crate::geom::{plane, sphere, Placed};
 use crate::math::{Affine3A, Ray, Vec3};
 
-/// Kind of a bounded object, selecting which arrays its range indexes.
+/// Kind of a bounded object, selecting which arrays its index refers to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u8)]
 enum Kind {
     Sphere,
     Triangles,
     Cuboid,
+    Instance,
 }
 
 /// Three coordinate arrays.
@@ -43,8 +50,80 @@ impl Xyz {
     }
 }
 
-/// Structure-of-arrays primitive store.
+/// Four column arrays of affine maps.
 #[derive(Debug, Clone, Default, PartialEq)]
+struct Affines {
+    x: Xyz,
+    y: Xyz,
+    z: Xyz,
+    w: Xyz,
+}
+
+impl Affines {
+    fn push(&mut self, m: &Affine3A) {
+        self.x.push(m.matrix3.x_axis.into());
+        self.y.push(m.matrix3.y_axis.into());
+        self.z.push(m.matrix3.z_axis.into());
+        self.w.push(m.translation.into());
+    }
+
+    #[inline]
+    fn get(&self, i: usize) -> Affine3A {
+        Affine3A::from_cols(self.x.get(i).into(), self.y.get(i).into(), self.z.get(i).into(), self.w.get(i).into())
+    }
+
+    fn bytes(&self) -> usize {
+        self.x.bytes() + self.y.bytes() + self.z.bytes() + self.w.bytes()
+    }
+}
+
+/// Triangles as nine coordinate arrays.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SoaTriangles {
+    v0: Xyz,
+    v1: Xyz,
+    v2: Xyz,
+}
+
+impl TriangleLayout for SoaTriangles {
+    fn from_mesh(mesh: &MeshData) -> Self {
+        Self::from_vertices(mesh.indices.iter().map(|f| f.map(|k| mesh.positions[k as usize])))
+    }
+
+    fn from_vertices(tris: impl IntoIterator<Item = [Vec3; 3]>) -> Self {
+        let mut s = Self::default();
+        for [a, b, c] in tris {
+            s.v0.push(a);
+            s.v1.push(b);
+            s.v2.push(c);
+        }
+        s
+    }
+
+    #[inline]
+    fn len(&self) -> u32 {
+        self.v0.x.len() as u32
+    }
+
+    #[inline]
+    fn vertices(&self, i: u32) -> [Vec3; 3] {
+        let i = i as usize;
+        [self.v0.get(i), self.v1.get(i), self.v2.get(i)]
+    }
+
+    #[inline]
+    fn intersect(&self, i: u32, ray: &WatertightRay, t_min: f32, t_max: f32) -> Option<TriangleHit> {
+        let i = i as usize;
+        triangle::intersect(self.v0.get(i), self.v1.get(i), self.v2.get(i), ray, t_min, t_max)
+    }
+
+    fn memory_bytes(&self) -> usize {
+        self.v0.bytes() + self.v1.bytes() + self.v2.bytes()
+    }
+}
+
+/// Structure-of-arrays primitive store.
+#[derive(Debug, Clone, Default)]
 pub struct SoaStore {
     // Bounded objects.
     kind: Vec<Kind>,
@@ -54,37 +133,29 @@ pub struct SoaStore {
     // Spheres.
     centre: Xyz,
     radius: Vec<f32>,
-    // Triangles.
-    v0: Xyz,
-    e1: Xyz,
-    e2: Xyz,
-    // Boxes: world-to-object map columns, and object-space corners.
-    to_object_x: Xyz,
-    to_object_y: Xyz,
-    to_object_z: Xyz,
-    to_object_w: Xyz,
+    // Scene triangles (polygons are fans).
+    triangles: SoaTriangles,
+    // Boxes: world-to-object maps and object-space corners.
+    box_to_object: Affines,
     box_min: Xyz,
     box_max: Xyz,
+    // Mesh instances: world-to-object maps and mesh ids.
+    instance_to_object: Affines,
+    instance_mesh: Vec<u32>,
     // Planes.
     plane_normal: Xyz,
     plane_offset: Vec<f32>,
     plane_material: Vec<MaterialId>,
-}
-
-impl SoaStore {
-    fn to_object(&self, i: usize) -> Affine3A {
-        Affine3A::from_cols(
-            self.to_object_x.get(i).into(),
-            self.to_object_y.get(i).into(),
-            self.to_object_z.get(i).into(),
-            self.to_object_w.get(i).into(),
-        )
-    }
+    // Shared mesh layouts.
+    meshes: Vec<Arc<MeshEntry<SoaTriangles>>>,
 }
 
 impl PrimitiveStore for SoaStore {
-    fn build(bounded: &[PlacedObject], unbounded: &[PlacedObject]) -> Self {
-        let mut s = SoaStore::default();
+    type Triangles = SoaTriangles;
+
+    fn build(bounded: &[PlacedObject], unbounded: &[PlacedObject], meshes: &[Arc<MeshEntry<SoaTriangles>>]) -> Self {
+        let mut s = SoaStore { meshes: meshes.to_vec(), ..Default::default() };
+        let mut tris = Vec::new();
         for obj in bounded {
             let (kind, first, count) = match &obj.geometry {
                 Placed::Sphere { centre, radius } => {
@@ -92,23 +163,22 @@ impl PrimitiveStore for SoaStore {
                     s.radius.push(*radius);
                     (Kind::Sphere, s.radius.len() - 1, 1)
                 }
-                Placed::Triangles(tris) => {
-                    let first = s.v0.x.len();
-                    for [v0, e1, e2] in tris {
-                        s.v0.push(*v0);
-                        s.e1.push(*e1);
-                        s.e2.push(*e2);
-                    }
-                    (Kind::Triangles, first, tris.len())
+                Placed::Triangles(list) => {
+                    let first = tris.len();
+                    tris.extend_from_slice(list);
+                    (Kind::Triangles, first, list.len())
                 }
                 Placed::Cuboid { to_object, min, max, .. } => {
-                    s.to_object_x.push(to_object.matrix3.x_axis.into());
-                    s.to_object_y.push(to_object.matrix3.y_axis.into());
-                    s.to_object_z.push(to_object.matrix3.z_axis.into());
-                    s.to_object_w.push(to_object.translation.into());
+                    s.box_to_object.push(to_object);
                     s.box_min.push(*min);
                     s.box_max.push(*max);
                     (Kind::Cuboid, s.box_min.x.len() - 1, 1)
+                }
+                Placed::Instance { mesh, to_object, .. } => {
+                    debug_assert!((mesh.0 as usize) < meshes.len(), "instance of an unknown mesh");
+                    s.instance_to_object.push(to_object);
+                    s.instance_mesh.push(mesh.0);
+                    (Kind::Instance, s.instance_mesh.len() - 1, 1)
                 }
                 Placed::Plane { .. } => {
                     debug_assert!(false, "planes are unbounded and belong in the unbounded list");
@@ -120,6 +190,7 @@ impl PrimitiveStore for SoaStore {
             s.count.push(count as u32);
             s.material.push(obj.material);
         }
+        s.triangles = SoaTriangles::from_vertices(tris);
         for obj in unbounded {
             if let Placed::Plane { normal, offset } = obj.geometry {
                 s.plane_normal.push(normal);
@@ -136,51 +207,60 @@ impl PrimitiveStore for SoaStore {
     }
 
     #[inline]
-    fn intersect_bounded(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+    fn intersect_bounded(
+        &self,
+        id: u32,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        cost: &mut TraversalCost,
+    ) -> Option<Hit> {
         let o = id as usize;
         let first = self.first[o] as usize;
         match self.kind[o] {
-            Kind::Sphere => sphere::intersect(self.centre.get(first), self.radius[first], ray, t_min, t_max)
-                .map(|t| Hit { t, object: id, prim: 0 }),
-            Kind::Triangles => {
-                let mut best: Option<Hit> = None;
-                let mut t_best = t_max;
-                for i in first..first + self.count[o] as usize {
-                    if let Some(h) = triangle::intersect(
-                        self.v0.get(i),
-                        self.e1.get(i),
-                        self.e2.get(i),
-                        ray,
-                        t_min,
-                        t_best,
-                    ) {
-                        t_best = h.t;
-                        best = Some(Hit { t: h.t, object: id, prim: (i - first) as u32 });
-                    }
-                }
-                best
+            Kind::Sphere => {
+                cost.tests += 1;
+                sphere::intersect(self.centre.get(first), self.radius[first], ray, t_min, t_max)
+                    .map(|t| Hit::new(t, id, 0))
             }
-            Kind::Cuboid => cuboid::intersect(
-                &self.to_object(first),
-                self.box_min.get(first),
-                self.box_max.get(first),
-                ray,
-                t_min,
-                t_max,
-            )
-            .map(|h| {
-                // Face code: axis in the low bits, sign in bit 2.
-                let axis = if h.local_normal.x != 0.0 {
-                    0
-                } else if h.local_normal.y != 0.0 {
-                    1
-                } else {
-                    2
-                };
-                let negative = (h.local_normal[axis] < 0.0) as u32;
-                Hit { t: h.t, object: id, prim: axis as u32 | negative << 2 }
-            }),
+            Kind::Triangles => {
+                let count = self.count[o];
+                cost.tests += count;
+                super::triangle_range_hit(&self.triangles, id, first as u32, count, ray, t_min, t_max)
+            }
+            Kind::Cuboid => {
+                cost.tests += 1;
+                let to_object = self.box_to_object.get(first);
+                super::cuboid_hit(&to_object, self.box_min.get(first), self.box_max.get(first), id, ray, t_min, t_max)
+            }
+            Kind::Instance => {
+                let mesh = &self.meshes[self.instance_mesh[first] as usize];
+                mesh::instance_hit(mesh, &self.instance_to_object.get(first), id, ray, t_min, t_max, cost)
+            }
         }
+    }
+
+    #[inline]
+    fn occludes_bounded(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32, cost: &mut TraversalCost) -> bool {
+        let o = id as usize;
+        if self.kind[o] == Kind::Instance {
+            let i = self.first[o] as usize;
+            let mesh = &self.meshes[self.instance_mesh[i] as usize];
+            let local = mesh::object_ray(&self.instance_to_object.get(i), ray);
+            return mesh::occluded(mesh, &local, t_min, t_max, cost);
+        }
+        self.intersect_bounded(id, ray, t_min, t_max, cost).is_some()
+    }
+
+    fn intersect_bounded_brute(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        let o = id as usize;
+        if self.kind[o] == Kind::Instance {
+            let i = self.first[o] as usize;
+            let mesh = &self.meshes[self.instance_mesh[i] as usize];
+            let local = mesh::object_ray(&self.instance_to_object.get(i), ray);
+            return mesh::intersect_brute(mesh, &local, t_min, t_max).map(|(k, h)| Hit::triangle(id, k, &h));
+        }
+        self.intersect_bounded(id, ray, t_min, t_max, &mut TraversalCost::default())
     }
 
     #[inline]
@@ -191,17 +271,14 @@ impl PrimitiveStore for SoaStore {
     #[inline]
     fn intersect_unbounded(&self, i: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
         let p = i as usize;
-        plane::intersect(self.plane_normal.get(p), self.plane_offset[p], ray, t_min, t_max).map(|t| Hit {
-            t,
-            object: i | UNBOUNDED_FLAG,
-            prim: 0,
-        })
+        plane::intersect(self.plane_normal.get(p), self.plane_offset[p], ray, t_min, t_max)
+            .map(|t| Hit::new(t, i | super::UNBOUNDED_FLAG, 0))
     }
 
     #[inline]
     fn material(&self, hit: &Hit) -> MaterialId {
-        if hit.object & UNBOUNDED_FLAG != 0 {
-            self.plane_material[(hit.object & !UNBOUNDED_FLAG) as usize]
+        if hit.object & super::UNBOUNDED_FLAG != 0 {
+            self.plane_material[(hit.object & !super::UNBOUNDED_FLAG) as usize]
         } else {
             self.material[hit.object as usize]
         }
@@ -209,48 +286,47 @@ impl PrimitiveStore for SoaStore {
 
     fn surface(&self, hit: &Hit, ray: &Ray) -> SurfacePoint {
         let point = ray.at(hit.t);
-        if hit.object & UNBOUNDED_FLAG != 0 {
-            let i = (hit.object & !UNBOUNDED_FLAG) as usize;
-            return SurfacePoint {
-                point,
-                normal: self.plane_normal.get(i),
-                material: self.plane_material[i],
-            };
+        if hit.object & super::UNBOUNDED_FLAG != 0 {
+            let i = (hit.object & !super::UNBOUNDED_FLAG) as usize;
+            let normal = self.plane_normal.get(i);
+            return SurfacePoint { point, normal, shading: normal, material: self.plane_material[i] };
         }
         let o = hit.object as usize;
         let first = self.first[o] as usize;
-        let normal = match self.kind[o] {
-            Kind::Sphere => sphere::normal(self.centre.get(first), self.radius[first], point),
+        let (normal, shading) = match self.kind[o] {
+            Kind::Sphere => {
+                let n = sphere::normal(self.centre.get(first), self.radius[first], point);
+                (n, n)
+            }
             Kind::Triangles => {
-                let i = first + hit.prim as usize;
-                triangle::normal(self.e1.get(i), self.e2.get(i))
+                let [a, b, c] = self.triangles.vertices(first as u32 + hit.prim);
+                let n = triangle::normal(a, b, c);
+                (n, n)
             }
             Kind::Cuboid => {
-                let mut local = Vec3::ZERO;
-                local[(hit.prim & 3) as usize] = if hit.prim & 4 != 0 { -1.0 } else { 1.0 };
-                cuboid::world_normal(&self.to_object(first), local)
+                let n = super::cuboid_normal(&self.box_to_object.get(first), hit.prim);
+                (n, n)
+            }
+            Kind::Instance => {
+                let mesh = &self.meshes[self.instance_mesh[first] as usize];
+                mesh::instance_normals(mesh, &self.instance_to_object.get(first), hit)
             }
         };
-        SurfacePoint { point, normal, material: self.material[o] }
+        SurfacePoint { point, normal, shading, material: self.material[o] }
     }
 
     fn memory_bytes(&self) -> usize {
-        let xyz = [
-            &self.centre,
-            &self.v0,
-            &self.e1,
-            &self.e2,
-            &self.to_object_x,
-            &self.to_object_y,
-            &self.to_object_z,
-            &self.to_object_w,
-            &self.box_min,
-            &self.box_max,
-            &self.plane_normal,
-        ];
+        let xyz = [&self.centre, &self.box_min, &self.box_max, &self.plane_normal];
         let f = std::mem::size_of::<f32>();
         xyz.iter().map(|a| a.bytes()).sum::<usize>()
+            + self.triangles.memory_bytes()
+            + self.box_to_object.bytes()
+            + self.instance_to_object.bytes()
             + self.kind.len() * (1 + 4 + 4 + 4)
-            + (self.radius.len() + self.plane_offset.len() + self.plane_material.len()) * f
+            + (self.radius.len() + self.plane_offset.len() + self.plane_material.len() + self.instance_mesh.len()) * f
+    }
+
+    fn meshes(&self) -> &[Arc<MeshEntry<SoaTriangles>>] {
+        &self.meshes
     }
 }

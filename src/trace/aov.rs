@@ -61,7 +61,7 @@ fn probe<S: PrimitiveStore>(scene: &TraceScene<S>, settings: &RenderSettings, x:
         return Probe { depth: f32::INFINITY, normal: Vec3::ZERO, albedo: Vec3::ZERO, object: 0 };
     };
     let sp = scene.store.surface(&hit, &ray);
-    let normal = if sp.normal.dot(ray.dir) < 0.0 { sp.normal } else { -sp.normal };
+    let normal = if sp.normal.dot(ray.dir) < 0.0 { sp.shading } else { -sp.shading };
     Probe {
         depth: hit.t * ray.dir.dot(scene.camera.forward),
         normal,

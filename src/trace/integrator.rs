@@ -10,7 +10,7 @@ use crate::math::{offset_distance, reflect, refract, Ray, Vec2, Vec3};
 use crate::sample::pattern::square_point;
 use crate::sample::rng::{hash, permute, uniform2, SampleKey, SampleStream};
 use crate::sample::warp::cone;
-use crate::store::{Hit, PrimitiveStore};
+use crate::store::{Hit, PrimitiveStore, TraversalCost};
 
 /// Nearest hit in `(t_min, t_max)`: planes first, then the grid's cells front to back.
 ///
@@ -24,17 +24,31 @@ pub fn closest_hit<S: PrimitiveStore>(
     t_min: f32,
     t_max: f32,
 ) -> Option<Hit> {
+    closest_hit_costed(scene, ray, t_min, t_max, &mut TraversalCost::default())
+}
+
+/// [`closest_hit`], adding the cells visited and primitives tested to `cost`.
+#[inline]
+pub fn closest_hit_costed<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+    cost: &mut TraversalCost,
+) -> Option<Hit> {
     let mut nearest = Nearest::new(t_max);
     let store = &scene.store;
     for i in 0..store.unbounded_count() {
+        cost.tests += 1;
         nearest.offer(store.intersect_unbounded(i, ray, t_min, nearest.t));
     }
     for span in GridWalk::new(&scene.grid, ray, t_min, nearest.t) {
         if span.t_enter > nearest.t {
             break;
         }
+        cost.cells += 1;
         for &id in scene.grid.cell_prims(span.cell) {
-            nearest.offer(store.intersect_bounded(id, ray, t_min, nearest.t));
+            nearest.offer(store.intersect_bounded(id, ray, t_min, nearest.t, cost));
         }
         if nearest.t <= span.t_exit {
             break;
@@ -56,7 +70,7 @@ pub fn closest_hit_brute<S: PrimitiveStore>(
         nearest.offer(store.intersect_unbounded(i, ray, t_min, nearest.t));
     }
     for id in 0..store.bounded_count() {
-        nearest.offer(store.intersect_bounded(id, ray, t_min, nearest.t));
+        nearest.offer(store.intersect_bounded_brute(id, ray, t_min, nearest.t));
     }
     nearest.hit
 }
@@ -91,6 +105,16 @@ impl Nearest {
 /// Counting a crossing in "the cell whose t-range holds it" is not enough: a crossing exactly on
 /// a wall, or rounded across one, can land in a span whose cell does not store the object.
 pub fn transmittance<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max: f32) -> f32 {
+    transmittance_costed(scene, ray, t_max, &mut TraversalCost::default())
+}
+
+/// [`transmittance`], adding the cells visited and primitives tested to `cost`.
+pub fn transmittance_costed<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    ray: &Ray,
+    t_max: f32,
+    cost: &mut TraversalCost,
+) -> f32 {
     let store = &scene.store;
     let opaque_only = !scene.effects.transmission;
     let mut pass = 1.0f32;
@@ -100,6 +124,7 @@ pub fn transmittance<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max:
         opaque_only || pass == 0.0
     };
     for i in 0..store.unbounded_count() {
+        cost.tests += 1;
         if let Some(h) = store.intersect_unbounded(i, ray, 0.0, t_max) {
             if cross(&h) {
                 return 0.0;
@@ -110,8 +135,9 @@ pub fn transmittance<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max:
     if opaque_only {
         // Any crossing anywhere in (0, t_max) blocks the light: no bookkeeping needed.
         for span in walk {
+            cost.cells += 1;
             for &id in scene.grid.cell_prims(span.cell) {
-                if store.intersect_bounded(id, ray, 0.0, t_max).is_some() {
+                if store.occludes_bounded(id, ray, 0.0, t_max, cost) {
                     return 0.0;
                 }
             }
@@ -120,6 +146,7 @@ pub fn transmittance<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max:
     }
     let mut visited: Vec<u32> = Vec::new();
     for span in walk {
+        cost.cells += 1;
         for &id in scene.grid.cell_prims(span.cell) {
             if visited.contains(&id) {
                 continue;
@@ -127,7 +154,7 @@ pub fn transmittance<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max:
             visited.push(id);
             // All of this object's crossings, nearest first.
             let mut t_lo = 0.0;
-            while let Some(h) = store.intersect_bounded(id, ray, t_lo, t_max) {
+            while let Some(h) = store.intersect_bounded(id, ray, t_lo, t_max, cost) {
                 if cross(&h) {
                     return 0.0;
                 }
@@ -262,16 +289,25 @@ pub fn radiance<S: PrimitiveStore>(
     weight: f32,
     ctx: &mut PathContext<'_>,
 ) -> Vec3 {
-    let Some(hit) = closest_hit(scene, ray, 0.0, f32::INFINITY) else {
+    let mut cost = TraversalCost::default();
+    let found = closest_hit_costed(scene, ray, 0.0, f32::INFINITY, &mut cost);
+    ctx.rays.traversal.record(cost);
+    let Some(hit) = found else {
         return scene.background;
     };
     let sp = scene.store.surface(&hit, ray);
     let m = *scene.material(sp.material);
-    // Shade the side the ray arrives on.
+    // Shade the side the ray arrives on: `n` is the geometric normal on that side (it decides
+    // offsets and sides), `ns` the shading normal there, unless it would face away from the
+    // viewer (possible at grazing angles on a smooth mesh), where the geometric one takes over.
     let entering = sp.normal.dot(ray.dir) < 0.0;
     let n = if entering { sp.normal } else { -sp.normal };
+    let ns = match if entering { sp.shading } else { -sp.shading } {
+        s if s.dot(ray.dir) < 0.0 => s,
+        _ => n,
+    };
     let eps = offset_distance(sp.point, scene.offset_floor);
-    let surface = Surface { point: sp.point, normal: n, above: sp.point + n * eps, eps };
+    let surface = Surface { point: sp.point, normal: ns, above: sp.point + n * eps, eps };
     let mut colour = scene.ambient * m.kd + direct_light(scene, &m, &surface, -ray.dir, ctx);
 
     if depth >= ctx.max_depth {
@@ -279,7 +315,10 @@ pub fn radiance<S: PrimitiveStore>(
     }
     // Mirror or glossy reflection.
     if m.kr > 0.0 && weight * m.kr >= ctx.min_contribution {
-        let mirror = reflect(ray.dir, n);
+        let mirror = match reflect(ray.dir, ns) {
+            r if r.dot(n) > 0.0 => r,
+            _ => reflect(ray.dir, n),
+        };
         colour += m.kr
             * if m.glossiness > 0.0 {
                 scatter(
@@ -301,7 +340,8 @@ pub fn radiance<S: PrimitiveStore>(
     // Refraction (Snell), or total internal reflection; blurry around that direction.
     if m.kt > 0.0 && weight * m.kt >= ctx.min_contribution {
         let eta = if entering { 1.0 / m.ior } else { m.ior };
-        let (origin, dir, side) = match refract(ray.dir, n, eta) {
+        let bent = refract(ray.dir, ns, eta).filter(|d| d.dot(n) < 0.0);
+        let (origin, dir, side) = match bent.or_else(|| refract(ray.dir, n, eta)) {
             Some(dir) => (sp.point - n * eps, dir, -n),
             None => (surface.above, reflect(ray.dir, n), n),
         };

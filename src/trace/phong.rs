@@ -2,12 +2,12 @@
 //! sample of an area light) adds `(kd·max(N·L, 0) + ks·max(R·V, 0)^shininess) × radiance ×
 //! transmittance` of its shadow ray.
 
-use super::integrator::{transmittance, PathContext};
+use super::integrator::{transmittance_costed, PathContext};
 use super::light::Light;
 use super::material::Material;
 use super::scene::TraceScene;
 use crate::math::{reflect, Ray, Vec3};
-use crate::store::PrimitiveStore;
+use crate::store::{PrimitiveStore, TraversalCost};
 
 /// A shading point: where it is, the normal on the side the ray arrived from, and the point
 /// lifted off the surface along that normal by `eps` (shadow rays start there).
@@ -57,7 +57,7 @@ pub fn direct_light<S: PrimitiveStore>(
             continue;
         }
         ctx.rays.shadow += 1;
-        let pass = transmittance(scene, &Ray::new(s.above, to_light), dist - s.eps);
+        let pass = shadow(scene, &Ray::new(s.above, to_light), dist - s.eps, ctx);
         if pass > 0.0 {
             colour += radiance * pass * phong(m, s.normal, view, to_light, n_dot_l);
         }
@@ -85,10 +85,19 @@ fn area_light<S: PrimitiveStore>(
             continue;
         }
         ctx.rays.area_shadow += 1;
-        let pass = transmittance(scene, &Ray::new(s.above, to_light), dist - s.eps);
+        let pass = shadow(scene, &Ray::new(s.above, to_light), dist - s.eps, ctx);
         if pass > 0.0 {
             colour += radiance * (pass * share) * phong(m, s.normal, view, to_light, n_dot_l);
         }
     }
     colour
+}
+
+/// Transmittance of a shadow ray, its traversal cost counted.
+#[inline]
+fn shadow<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max: f32, ctx: &mut PathContext<'_>) -> f32 {
+    let mut cost = TraversalCost::default();
+    let pass = transmittance_costed(scene, ray, t_max, &mut cost);
+    ctx.rays.traversal.record(cost);
+    pass
 }

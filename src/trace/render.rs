@@ -13,6 +13,7 @@
 
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::Arc;
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -20,7 +21,7 @@ use rayon::prelude::*;
 use super::aov::first_hit_aovs;
 use super::integrator::{radiance, CameraSample, PathContext};
 use super::scene::TraceScene;
-use super::stats::{AdaptiveCounts, GridStats, RayCounts, RenderStats};
+use super::stats::{AdaptiveCounts, GridStats, MeshGridStats, RayCounts, RenderStats};
 use crate::film::{AovSet, Aovs, Film};
 use crate::math::{Ray, Vec2, Vec3};
 use crate::sample::adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint};
@@ -28,7 +29,7 @@ use crate::sample::pattern::{disk_point, square_point};
 use crate::sample::rng::{hash, permute, uniform2, SampleKey};
 use crate::sample::warp::tent;
 use crate::sample::{Filter, Pattern};
-use crate::store::PrimitiveStore;
+use crate::store::{MeshEntry, PrimitiveStore};
 
 /// Edge length of a square render tile in pixels.
 pub const TILE: u32 = 16;
@@ -178,7 +179,9 @@ pub fn render_observed<S: PrimitiveStore>(
         references: scene.grid.reference_count() as u64,
         grid_bytes: scene.grid.memory_bytes() as u64,
         store_bytes: scene.store.memory_bytes() as u64,
+        meshes: mesh_grid_stats(scene.store.meshes()),
     };
+    stats.traversal = stats.rays.traversal.summary();
     (film, aovs, stats)
 }
 
@@ -421,4 +424,21 @@ fn lattice_sample<S: PrimitiveStore>(
         res.trailing_zeros() - p.x.trailing_zeros().min(p.y.trailing_zeros()).min(res.trailing_zeros());
     let camera = CameraSample { spp: 1 << (2 * level), ..CameraSample::single(key) };
     trace_camera_ray(scene, settings, &ray, camera, rays)
+}
+
+/// Figures of the mesh level of a store's two-level grid.
+fn mesh_grid_stats<L: crate::store::TriangleLayout>(meshes: &[Arc<MeshEntry<L>>]) -> MeshGridStats {
+    let mut m = MeshGridStats { assets: meshes.len() as u32, ..Default::default() };
+    for e in meshes {
+        m.triangles += e.asset.data.triangle_count() as u64;
+        m.references += e.asset.grid.reference_count() as u64;
+        m.grid_bytes += e.asset.grid.memory_bytes() as u64;
+        m.store_bytes += e.memory_bytes() as u64;
+        m.data_bytes += e.asset.data.memory_bytes() as u64;
+    }
+    if m.triangles > 0 {
+        m.grid_bytes_per_triangle = m.grid_bytes as f64 / m.triangles as f64;
+        m.store_bytes_per_triangle = (m.store_bytes + m.data_bytes) as f64 / m.triangles as f64;
+    }
+    m
 }

@@ -8,7 +8,7 @@ use super::material::Material;
 use crate::accel::{GridBuilder, UniformGrid};
 use crate::camera::Camera;
 use crate::math::Vec3;
-use crate::store::{MaterialId, PlacedObject, PrimitiveStore, SoaStore};
+use crate::store::{MaterialId, MeshAsset, MeshEntry, PlacedObject, PrimitiveStore, SoaStore};
 
 /// The non-geometric part of a snapshot: materials, lights, camera and the constant terms.
 #[derive(Debug, Clone)]
@@ -52,11 +52,13 @@ pub struct TraceScene<S: PrimitiveStore = SoaStore> {
 }
 
 impl<S: PrimitiveStore> TraceScene<S> {
-    /// Assembles a snapshot around an already built grid over `bounded` (in grid-id order).
+    /// Assembles a snapshot around an already built grid over `bounded` (in grid-id order),
+    /// with the mesh assets its instances refer to already laid out for `S`.
     pub fn with_grid(
         grid: Arc<UniformGrid>,
         bounded: &[PlacedObject],
         unbounded: &[PlacedObject],
+        meshes: &[Arc<MeshEntry<S::Triangles>>],
         tables: SceneTables,
     ) -> Self {
         let SceneTables { materials, lights, camera, background, ambient } = tables;
@@ -68,7 +70,7 @@ impl<S: PrimitiveStore> TraceScene<S> {
         };
         let offset_floor = (size.max(camera.position.abs().max_element()) * 1e-3).max(f32::MIN_POSITIVE);
         Self {
-            store: S::build(bounded, unbounded),
+            store: S::build(bounded, unbounded, meshes),
             grid,
             materials,
             lights,
@@ -84,12 +86,24 @@ impl<S: PrimitiveStore> TraceScene<S> {
     /// Builds a snapshot, its grid included, straight from placed objects (no ECS): planes go to
     /// the unbounded list, everything else into the grid in the given order.
     pub fn build(objects: &[PlacedObject], tables: SceneTables, lambda: f32) -> Self {
+        Self::build_with_meshes(objects, &[], tables, lambda)
+    }
+
+    /// [`TraceScene::build`] for scenes with mesh instances, whose ids index `meshes`.
+    pub fn build_with_meshes(
+        objects: &[PlacedObject],
+        meshes: &[Arc<MeshAsset>],
+        tables: SceneTables,
+        lambda: f32,
+    ) -> Self {
+        let layouts: Vec<Arc<MeshEntry<S::Triangles>>> =
+            meshes.iter().map(|m| Arc::new(MeshEntry::new(m.clone()))).collect();
         let (bounded, unbounded): (Vec<PlacedObject>, Vec<PlacedObject>) =
             objects.iter().cloned().partition(|o| o.geometry.bounds().is_some());
         let bounds: Vec<_> = bounded.iter().filter_map(|o| o.geometry.bounds()).collect();
         let grid =
             GridBuilder::new(lambda).build(&bounds, |id, cell| bounded[id as usize].geometry.overlaps(cell));
-        Self::with_grid(Arc::new(grid), &bounded, &unbounded, tables)
+        Self::with_grid(Arc::new(grid), &bounded, &unbounded, &layouts, tables)
     }
 
     /// The material of a material id.

@@ -27,6 +27,9 @@ pub struct RayCounts {
     pub blurry: u64,
     /// Probe rays of first-hit AOVs (one per pixel, only when such an AOV is asked for).
     pub aov: u64,
+    /// Grid cells visited and primitives tested by the rays above (AOV probes excluded).
+    #[serde(skip)]
+    pub traversal: TraversalTally,
 }
 
 impl RayCounts {
@@ -73,7 +76,144 @@ impl RayCounts {
         self.refraction += o.refraction;
         self.blurry += o.blurry;
         self.aov += o.aov;
+        self.traversal.add(&o.traversal);
     }
+}
+
+/// Buckets of a [`CostHistogram`]: exact below 32, then four per power of two up to 2^20.
+const BUCKETS: usize = 96;
+
+/// A histogram of small counts with bounded relative error (≤ 25 % above 32), cheap enough
+/// to update once per ray.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CostHistogram {
+    buckets: [u64; BUCKETS],
+}
+
+impl Default for CostHistogram {
+    fn default() -> Self {
+        Self { buckets: [0; BUCKETS] }
+    }
+}
+
+impl CostHistogram {
+    #[inline]
+    fn bucket(v: u32) -> usize {
+        if v < 32 {
+            return v as usize;
+        }
+        let e = 31 - v.leading_zeros(); // ≥ 5
+        let sub = (v >> (e - 2)) & 3;
+        (32 + (e as usize - 5) * 4 + sub as usize).min(BUCKETS - 1)
+    }
+
+    /// The largest value that falls into bucket `b`.
+    fn upper(b: usize) -> u64 {
+        if b < 32 {
+            return b as u64;
+        }
+        let e = (b - 32) / 4 + 5;
+        let sub = ((b - 32) % 4) as u64;
+        ((4 + sub + 1) << (e - 2)) - 1
+    }
+
+    /// Counts one value.
+    #[inline]
+    pub fn record(&mut self, v: u32) {
+        self.buckets[Self::bucket(v)] += 1;
+    }
+
+    /// Adds another histogram.
+    pub fn add(&mut self, o: &CostHistogram) {
+        for (a, b) in self.buckets.iter_mut().zip(&o.buckets) {
+            *a += b;
+        }
+    }
+
+    /// Number of values counted.
+    pub fn count(&self) -> u64 {
+        self.buckets.iter().sum()
+    }
+
+    /// The `q`-quantile (0 ≤ q ≤ 1), as the upper end of its bucket (exact below 32).
+    pub fn quantile(&self, q: f64) -> u64 {
+        let n = self.count();
+        if n == 0 {
+            return 0;
+        }
+        let rank = ((q * n as f64).ceil() as u64).clamp(1, n);
+        let mut seen = 0;
+        for (b, &c) in self.buckets.iter().enumerate() {
+            seen += c;
+            if seen >= rank {
+                return Self::upper(b);
+            }
+        }
+        Self::upper(BUCKETS - 1)
+    }
+}
+
+/// Traversal work of the rays of a render: cells visited and primitive tests, per ray.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct TraversalTally {
+    /// Rays recorded.
+    pub rays: u64,
+    /// Cells visited in all.
+    pub cells: u64,
+    /// Primitive tests in all.
+    pub tests: u64,
+    /// Cells per ray.
+    pub cells_per_ray: CostHistogram,
+    /// Tests per ray.
+    pub tests_per_ray: CostHistogram,
+}
+
+impl TraversalTally {
+    /// Counts one ray's cost.
+    #[inline]
+    pub fn record(&mut self, cost: crate::store::TraversalCost) {
+        self.rays += 1;
+        self.cells += u64::from(cost.cells);
+        self.tests += u64::from(cost.tests);
+        self.cells_per_ray.record(cost.cells);
+        self.tests_per_ray.record(cost.tests);
+    }
+
+    /// Adds another tally.
+    pub fn add(&mut self, o: &TraversalTally) {
+        self.rays += o.rays;
+        self.cells += o.cells;
+        self.tests += o.tests;
+        self.cells_per_ray.add(&o.cells_per_ray);
+        self.tests_per_ray.add(&o.tests_per_ray);
+    }
+
+    /// Mean, p99 and max-bucket figures for the statistics.
+    pub fn summary(&self) -> TraversalStats {
+        let mean = |sum: u64| if self.rays == 0 { 0.0 } else { sum as f64 / self.rays as f64 };
+        TraversalStats {
+            rays: self.rays,
+            cells_mean: mean(self.cells),
+            cells_p99: self.cells_per_ray.quantile(0.99),
+            tests_mean: mean(self.tests),
+            tests_p99: self.tests_per_ray.quantile(0.99),
+        }
+    }
+}
+
+/// Per-ray traversal figures: mean and 99th percentile of cells visited and primitive tests.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct TraversalStats {
+    /// Rays these figures cover (every traced ray except AOV probes).
+    pub rays: u64,
+    /// Mean cells visited per ray (both grid levels).
+    pub cells_mean: f64,
+    /// 99th percentile of cells visited per ray (upper end of its histogram bucket).
+    pub cells_p99: u64,
+    /// Mean primitive tests per ray (objects and triangles).
+    pub tests_mean: f64,
+    /// 99th percentile of primitive tests per ray.
+    pub tests_p99: u64,
 }
 
 /// What adaptive supersampling did.
@@ -96,8 +236,10 @@ pub struct StageTimes {
     pub script: f64,
     /// Spawning or updating the World (applying writes, transforms, bounds).
     pub world_update: f64,
-    /// Building the grid (zero on frames that reuse it).
+    /// Building the top-level grid over the scene's objects (zero on frames that reuse it).
     pub grid_build: f64,
+    /// Building the mesh assets' own grids (once, when the scene is loaded; zero afterwards).
+    pub mesh_grid_build: f64,
     /// Flattening the World into the snapshot.
     pub snapshot: f64,
     /// Tracing.
@@ -107,7 +249,7 @@ pub struct StageTimes {
 }
 
 /// Figures about the grid a frame was traced with.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
 pub struct GridStats {
     /// Cells per axis.
     pub dims: [u32; 3],
@@ -119,6 +261,29 @@ pub struct GridStats {
     pub grid_bytes: u64,
     /// Bytes of the primitive store.
     pub store_bytes: u64,
+    /// The mesh level (zeros when the scene has no meshes).
+    pub meshes: MeshGridStats,
+}
+
+/// Figures about the mesh assets: the bottom level of the two-level grid.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct MeshGridStats {
+    /// Distinct mesh assets.
+    pub assets: u32,
+    /// Triangles over all assets (each counted once, however many instances).
+    pub triangles: u64,
+    /// Triangle references in the mesh grids.
+    pub references: u64,
+    /// Bytes of the mesh grids.
+    pub grid_bytes: u64,
+    /// Bytes of the triangles in the tracer's layout.
+    pub store_bytes: u64,
+    /// Bytes of the indexed mesh data (positions, normals, faces) used for shading.
+    pub data_bytes: u64,
+    /// Grid bytes per triangle.
+    pub grid_bytes_per_triangle: f64,
+    /// Layout plus mesh data bytes per triangle.
+    pub store_bytes_per_triangle: f64,
 }
 
 /// Statistics of one rendered frame.
@@ -144,6 +309,8 @@ pub struct RenderStats {
     pub times: StageTimes,
     /// Grid figures.
     pub grid: GridStats,
+    /// Cells visited and primitive tests per ray.
+    pub traversal: TraversalStats,
 }
 
 impl RenderStats {
@@ -171,7 +338,9 @@ impl RenderStats {
              adaptive   {} points traced, {} reused, {} subdivisions\n\
              speed      {:.2} Mrays/s\n\
              grid       {}x{}x{} cells, {} objects, {} references, {} B grid, {} B store\n\
-             time (ms)  load {:.2}, script {:.2}, world {:.2}, grid build {:.2}, snapshot {:.2}, trace {:.2}, write {:.2}",
+             meshes     {} assets, {} triangles, {} references, {} B grids ({:.1} B/triangle), {} B triangles + {} B mesh data ({:.1} B/triangle)\n\
+             per ray    cells visited mean {:.2}, p99 {}; primitive tests mean {:.2}, p99 {} ({} rays)\n\
+             time (ms)  load {:.2}, script {:.2}, world {:.2}, grid build {:.2} (top level) + {:.2} (mesh grids), snapshot {:.2}, trace {:.2}, write {:.2}",
             self.width,
             self.height,
             self.threads,
@@ -197,10 +366,24 @@ impl RenderStats {
             self.grid.references,
             self.grid.grid_bytes,
             self.grid.store_bytes,
+            self.grid.meshes.assets,
+            self.grid.meshes.triangles,
+            self.grid.meshes.references,
+            self.grid.meshes.grid_bytes,
+            self.grid.meshes.grid_bytes_per_triangle,
+            self.grid.meshes.store_bytes,
+            self.grid.meshes.data_bytes,
+            self.grid.meshes.store_bytes_per_triangle,
+            self.traversal.cells_mean,
+            self.traversal.cells_p99,
+            self.traversal.tests_mean,
+            self.traversal.tests_p99,
+            self.traversal.rays,
             t.load * 1e3,
             t.script * 1e3,
             t.world_update * 1e3,
             t.grid_build * 1e3,
+            t.mesh_grid_build * 1e3,
             t.snapshot * 1e3,
             t.trace * 1e3,
             t.write * 1e3,

@@ -51,6 +51,8 @@ impl<S: PrimitiveStore + 'static> SceneWorld<S> {
         world.init_resource::<GridRebuilds>();
         world.init_resource::<StageClock>();
         world.init_resource::<resources::GridIndex>();
+        world.init_resource::<resources::MeshTable>();
+        world.init_resource::<resources::MeshLayouts<S>>();
         Self { world, schedule: schedule::build_schedule::<S>(), layout: PhantomData }
     }
 

@@ -8,7 +8,7 @@ use bevy_ecs::prelude::{Entity, Resource};
 use crate::accel::{UniformGrid, DEFAULT_LAMBDA};
 use crate::math::Vec3;
 use crate::sample::adaptive::AdaptiveSettings;
-use crate::store::{MaterialId, PrimitiveStore};
+use crate::store::{MaterialId, MeshAsset, MeshEntry, PrimitiveStore};
 use crate::trace::{AntiAliasing, Material, RenderSettings, Sampling, TraceScene};
 
 /// Material table; [`MaterialId`] indexes it. Names are kept for scripts and messages.
@@ -157,5 +157,20 @@ pub struct Snapshot<S: PrimitiveStore + 'static>(pub Option<Arc<TraceScene<S>>>)
 impl<S: PrimitiveStore + 'static> Default for Snapshot<S> {
     fn default() -> Self {
         Self(None)
+    }
+}
+
+/// The scene's mesh assets, indexed by [`crate::geom::MeshId`]: loaded and gridded once, shared
+/// by every instance and every frame.
+#[derive(Resource, Debug, Clone, Default)]
+pub struct MeshTable(pub Vec<Arc<MeshAsset>>);
+
+/// The mesh assets laid out for store `S`, made once from [`MeshTable`] by `build_snapshot`.
+#[derive(Resource, Debug)]
+pub struct MeshLayouts<S: PrimitiveStore + 'static>(pub Vec<Arc<MeshEntry<S::Triangles>>>);
+
+impl<S: PrimitiveStore + 'static> Default for MeshLayouts<S> {
+    fn default() -> Self {
+        Self(Vec::new())
     }
 }

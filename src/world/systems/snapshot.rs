@@ -5,10 +5,12 @@ use std::time::Instant;
 
 use bevy_ecs::prelude::{Entity, Query, Res, ResMut};
 
-use crate::store::{PlacedObject, PrimitiveStore};
+use crate::store::{MeshEntry, PlacedObject, PrimitiveStore};
 use crate::trace::{SceneTables, TraceScene};
 use crate::world::components::{Light, MaterialRef, Name, Visible, WorldAabb, WorldShape};
-use crate::world::resources::{CameraRig, GridIndex, Materials, SceneSettings, Snapshot, StageClock};
+use crate::world::resources::{
+    CameraRig, GridIndex, Materials, MeshLayouts, MeshTable, SceneSettings, Snapshot, StageClock,
+};
 use crate::world::systems::grid::is_visible;
 
 /// What the snapshot reads of each object.
@@ -31,10 +33,15 @@ pub fn build_snapshot<S: PrimitiveStore + 'static>(
     materials: Res<Materials>,
     rig: Res<CameraRig>,
     settings: Res<SceneSettings>,
+    meshes: Res<MeshTable>,
+    mut layouts: ResMut<MeshLayouts<S>>,
     mut snapshot: ResMut<Snapshot<S>>,
     mut clock: ResMut<StageClock>,
 ) {
     let started = Instant::now();
+    // Lay out mesh assets added since the last frame (normally all of them, once).
+    let have = layouts.0.len();
+    layouts.0.extend(meshes.0[have..].iter().map(|m| Arc::new(MeshEntry::new(m.clone()))));
     let placed = |shape: &WorldShape, material: &MaterialRef| PlacedObject {
         geometry: shape.0.clone(),
         material: material.0,
@@ -74,7 +81,7 @@ pub fn build_snapshot<S: PrimitiveStore + 'static>(
         background: settings.background,
         ambient: settings.ambient,
     };
-    let mut scene = TraceScene::with_grid(index.grid.clone(), &bounded, &unbounded, tables);
+    let mut scene = TraceScene::with_grid(index.grid.clone(), &bounded, &unbounded, &layouts.0, tables);
     scene.object_names = object_names;
     snapshot.0 = Some(Arc::new(scene));
     clock.snapshot = started.elapsed().as_secs_f64();

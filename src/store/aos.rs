@@ -1,0 +1,239 @@
+//! Array-of-structures store: the structure-of-arrays store's twin, one struct per primitive
+//! (a triangle's three vertices together, an object's shape and material together), for
+//! measuring what the layout alone is worth.
+
+use std::sync::Arc;
+
+use super::mesh::{self, MeshEntry};
+use super::{Hit, MaterialId, PlacedObject, PrimitiveStore, SurfacePoint, TraversalCost, TriangleLayout};
+use crate::geom::mesh::MeshData;
+use crate::geom::triangle::{self, TriangleHit, WatertightRay};
+use crate::geom::{plane, sphere, Placed};
+use crate::math::{Affine3A, Ray, Vec3};
+
+/// One triangle: its three vertices side by side.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AosTriangle {
+    /// First vertex.
+    pub v0: Vec3,
+    /// Second vertex.
+    pub v1: Vec3,
+    /// Third vertex.
+    pub v2: Vec3,
+}
+
+/// Triangles as one array of [`AosTriangle`].
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct AosTriangles(Vec<AosTriangle>);
+
+impl TriangleLayout for AosTriangles {
+    fn from_mesh(mesh: &MeshData) -> Self {
+        Self::from_vertices(mesh.indices.iter().map(|f| f.map(|k| mesh.positions[k as usize])))
+    }
+
+    fn from_vertices(tris: impl IntoIterator<Item = [Vec3; 3]>) -> Self {
+        Self(tris.into_iter().map(|[v0, v1, v2]| AosTriangle { v0, v1, v2 }).collect())
+    }
+
+    #[inline]
+    fn len(&self) -> u32 {
+        self.0.len() as u32
+    }
+
+    #[inline]
+    fn vertices(&self, i: u32) -> [Vec3; 3] {
+        let t = &self.0[i as usize];
+        [t.v0, t.v1, t.v2]
+    }
+
+    #[inline]
+    fn intersect(&self, i: u32, ray: &WatertightRay, t_min: f32, t_max: f32) -> Option<TriangleHit> {
+        let t = &self.0[i as usize];
+        triangle::intersect(t.v0, t.v1, t.v2, ray, t_min, t_max)
+    }
+
+    fn memory_bytes(&self) -> usize {
+        self.0.len() * std::mem::size_of::<AosTriangle>()
+    }
+}
+
+/// The shape of one bounded object, with its data inline.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum AosShape {
+    Sphere { centre: Vec3, radius: f32 },
+    Triangles { first: u32, count: u32 },
+    Cuboid { to_object: Affine3A, min: Vec3, max: Vec3 },
+    Instance { to_object: Affine3A, mesh: u32 },
+}
+
+/// One bounded object.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct AosObject {
+    shape: AosShape,
+    material: MaterialId,
+}
+
+/// One plane.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct AosPlane {
+    normal: Vec3,
+    offset: f32,
+    material: MaterialId,
+}
+
+/// Array-of-structures primitive store.
+#[derive(Debug, Clone, Default)]
+pub struct AosStore {
+    objects: Vec<AosObject>,
+    triangles: AosTriangles,
+    planes: Vec<AosPlane>,
+    meshes: Vec<Arc<MeshEntry<AosTriangles>>>,
+}
+
+impl PrimitiveStore for AosStore {
+    type Triangles = AosTriangles;
+
+    fn build(bounded: &[PlacedObject], unbounded: &[PlacedObject], meshes: &[Arc<MeshEntry<AosTriangles>>]) -> Self {
+        let mut tris = Vec::new();
+        let mut objects = Vec::with_capacity(bounded.len());
+        for obj in bounded {
+            let shape = match &obj.geometry {
+                Placed::Sphere { centre, radius } => AosShape::Sphere { centre: *centre, radius: *radius },
+                Placed::Triangles(list) => {
+                    let first = tris.len() as u32;
+                    tris.extend_from_slice(list);
+                    AosShape::Triangles { first, count: list.len() as u32 }
+                }
+                Placed::Cuboid { to_object, min, max, .. } => {
+                    AosShape::Cuboid { to_object: *to_object, min: *min, max: *max }
+                }
+                Placed::Instance { mesh, to_object, .. } => {
+                    debug_assert!((mesh.0 as usize) < meshes.len(), "instance of an unknown mesh");
+                    AosShape::Instance { to_object: *to_object, mesh: mesh.0 }
+                }
+                Placed::Plane { .. } => {
+                    debug_assert!(false, "planes are unbounded and belong in the unbounded list");
+                    continue;
+                }
+            };
+            objects.push(AosObject { shape, material: obj.material });
+        }
+        let planes = unbounded
+            .iter()
+            .filter_map(|obj| match obj.geometry {
+                Placed::Plane { normal, offset } => Some(AosPlane { normal, offset, material: obj.material }),
+                _ => None,
+            })
+            .collect();
+        Self { objects, triangles: AosTriangles::from_vertices(tris), planes, meshes: meshes.to_vec() }
+    }
+
+    #[inline]
+    fn bounded_count(&self) -> u32 {
+        self.objects.len() as u32
+    }
+
+    #[inline]
+    fn intersect_bounded(
+        &self,
+        id: u32,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        cost: &mut TraversalCost,
+    ) -> Option<Hit> {
+        match &self.objects[id as usize].shape {
+            AosShape::Sphere { centre, radius } => {
+                cost.tests += 1;
+                sphere::intersect(*centre, *radius, ray, t_min, t_max).map(|t| Hit::new(t, id, 0))
+            }
+            AosShape::Triangles { first, count } => {
+                cost.tests += count;
+                super::triangle_range_hit(&self.triangles, id, *first, *count, ray, t_min, t_max)
+            }
+            AosShape::Cuboid { to_object, min, max } => {
+                cost.tests += 1;
+                super::cuboid_hit(to_object, *min, *max, id, ray, t_min, t_max)
+            }
+            AosShape::Instance { to_object, mesh } => {
+                mesh::instance_hit(&self.meshes[*mesh as usize], to_object, id, ray, t_min, t_max, cost)
+            }
+        }
+    }
+
+    #[inline]
+    fn occludes_bounded(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32, cost: &mut TraversalCost) -> bool {
+        if let AosShape::Instance { to_object, mesh } = &self.objects[id as usize].shape {
+            let local = mesh::object_ray(to_object, ray);
+            return mesh::occluded(&self.meshes[*mesh as usize], &local, t_min, t_max, cost);
+        }
+        self.intersect_bounded(id, ray, t_min, t_max, cost).is_some()
+    }
+
+    fn intersect_bounded_brute(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        if let AosShape::Instance { to_object, mesh } = &self.objects[id as usize].shape {
+            let local = mesh::object_ray(to_object, ray);
+            return mesh::intersect_brute(&self.meshes[*mesh as usize], &local, t_min, t_max)
+                .map(|(k, h)| Hit::triangle(id, k, &h));
+        }
+        self.intersect_bounded(id, ray, t_min, t_max, &mut TraversalCost::default())
+    }
+
+    #[inline]
+    fn unbounded_count(&self) -> u32 {
+        self.planes.len() as u32
+    }
+
+    #[inline]
+    fn intersect_unbounded(&self, i: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        let p = &self.planes[i as usize];
+        plane::intersect(p.normal, p.offset, ray, t_min, t_max).map(|t| Hit::new(t, i | super::UNBOUNDED_FLAG, 0))
+    }
+
+    #[inline]
+    fn material(&self, hit: &Hit) -> MaterialId {
+        if hit.object & super::UNBOUNDED_FLAG != 0 {
+            self.planes[(hit.object & !super::UNBOUNDED_FLAG) as usize].material
+        } else {
+            self.objects[hit.object as usize].material
+        }
+    }
+
+    fn surface(&self, hit: &Hit, ray: &Ray) -> SurfacePoint {
+        let point = ray.at(hit.t);
+        if hit.object & super::UNBOUNDED_FLAG != 0 {
+            let p = &self.planes[(hit.object & !super::UNBOUNDED_FLAG) as usize];
+            return SurfacePoint { point, normal: p.normal, shading: p.normal, material: p.material };
+        }
+        let obj = &self.objects[hit.object as usize];
+        let (normal, shading) = match &obj.shape {
+            AosShape::Sphere { centre, radius } => {
+                let n = sphere::normal(*centre, *radius, point);
+                (n, n)
+            }
+            AosShape::Triangles { first, .. } => {
+                let [a, b, c] = self.triangles.vertices(first + hit.prim);
+                let n = triangle::normal(a, b, c);
+                (n, n)
+            }
+            AosShape::Cuboid { to_object, .. } => {
+                let n = super::cuboid_normal(to_object, hit.prim);
+                (n, n)
+            }
+            AosShape::Instance { to_object, mesh } => {
+                mesh::instance_normals(&self.meshes[*mesh as usize], to_object, hit)
+            }
+        };
+        SurfacePoint { point, normal, shading, material: obj.material }
+    }
+
+    fn memory_bytes(&self) -> usize {
+        self.objects.len() * std::mem::size_of::<AosObject>()
+            + self.triangles.memory_bytes()
+            + self.planes.len() * std::mem::size_of::<AosPlane>()
+    }
+
+    fn meshes(&self) -> &[Arc<MeshEntry<AosTriangles>>] {
+        &self.meshes
+    }
+}

@@ -1,0 +1,202 @@
+//! Mesh assets and the bottom level of the two-level grid.
+//!
+//! A [`MeshAsset`] is a mesh in object space with its own uniform grid, built once when the
+//! scene is loaded and shared (through `Arc`) by every instance and every frame. A
+//! [`MeshEntry`] adds the triangles in one store layout. Rays reach a mesh through an instance's
+//! world-to-object map: the direction is not renormalised, so the object-space ray parameter
+//! equals the world one and hits compare directly with the rest of the scene.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use super::{TraversalCost, TriangleLayout};
+use crate::accel::{GridBuilder, GridWalk, UniformGrid};
+use crate::geom::mesh::MeshData;
+use crate::geom::triangle::{self, TriangleHit, WatertightRay};
+use crate::math::{Affine3A, Ray, Vec3};
+
+/// A mesh in object space with its grid: what every instance of the mesh shares.
+#[derive(Debug, Clone)]
+pub struct MeshAsset {
+    /// Where the mesh came from (the file name as the scene gives it).
+    pub name: String,
+    /// Positions, normals and faces.
+    pub data: MeshData,
+    /// Object-space grid over the triangles (ids are triangle indices).
+    pub grid: UniformGrid,
+    /// Seconds the grid build took.
+    pub build_seconds: f64,
+}
+
+impl MeshAsset {
+    /// Builds the asset's grid with density `lambda` (in parallel, exact triangle/cell tests).
+    pub fn new(name: impl Into<String>, data: MeshData, lambda: f32) -> Self {
+        let started = Instant::now();
+        let tri = |i: usize| data.indices[i].map(|k| data.positions[k as usize]);
+        let bounds: Vec<_> = (0..data.indices.len())
+            .map(|i| {
+                let [a, b, c] = tri(i);
+                triangle::bounds(a, b, c)
+            })
+            .collect();
+        let grid = GridBuilder::new(lambda).build(&bounds, |id, cell| {
+            let [a, b, c] = tri(id as usize);
+            triangle::overlaps_box(a, b, c, cell)
+        });
+        Self { name: name.into(), data, grid, build_seconds: started.elapsed().as_secs_f64() }
+    }
+
+    /// Bytes of the mesh data and its grid (layout copies are counted by the stores).
+    pub fn memory_bytes(&self) -> usize {
+        self.data.memory_bytes() + self.grid.memory_bytes()
+    }
+
+    /// Unit shading normal in object space at barycentrics `(u, v)` of triangle `i`: the
+    /// interpolated vertex normals, or `geometric` for a flat mesh (or where they cancel).
+    pub fn shading_normal(&self, i: u32, u: f32, v: f32, geometric: Vec3) -> Vec3 {
+        if self.data.normals.is_empty() {
+            return geometric;
+        }
+        let [a, b, c] = self.data.indices[i as usize].map(|k| self.data.normals[k as usize]);
+        (a * (1.0 - u - v) + b * u + c * v).try_normalize().unwrap_or(geometric)
+    }
+}
+
+/// A mesh asset with its triangles in layout `L`.
+#[derive(Debug)]
+pub struct MeshEntry<L: TriangleLayout> {
+    /// The shared asset.
+    pub asset: Arc<MeshAsset>,
+    /// Its triangles, laid out for the tracer.
+    pub triangles: L,
+}
+
+impl<L: TriangleLayout> MeshEntry<L> {
+    /// Lays out the asset's triangles.
+    pub fn new(asset: Arc<MeshAsset>) -> Self {
+        let triangles = L::from_mesh(&asset.data);
+        Self { asset, triangles }
+    }
+
+    /// Bytes of the layout copy.
+    pub fn memory_bytes(&self) -> usize {
+        self.triangles.memory_bytes()
+    }
+}
+
+/// The object-space ray of an instance: origin and direction mapped by `to_object`, the
+/// direction left unnormalised so that ray parameters agree with world space.
+#[inline]
+pub fn object_ray(to_object: &Affine3A, ray: &Ray) -> Ray {
+    Ray::new(to_object.transform_point3(ray.origin), to_object.transform_vector3(ray.dir))
+}
+
+/// Nearest triangle hit in `(t_min, t_max)` with its index, walking the mesh grid front to back.
+#[inline]
+pub fn intersect<L: TriangleLayout>(
+    mesh: &MeshEntry<L>,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+    cost: &mut TraversalCost,
+) -> Option<(u32, TriangleHit)> {
+    let grid = &mesh.asset.grid;
+    let wray = WatertightRay::new(ray);
+    let mut best: Option<(u32, TriangleHit)> = None;
+    let mut t_best = t_max;
+    for span in GridWalk::new(grid, ray, t_min, t_max) {
+        if span.t_enter > t_best {
+            break;
+        }
+        cost.cells += 1;
+        let prims = grid.cell_prims(span.cell);
+        cost.tests += prims.len() as u32;
+        for &i in prims {
+            if let Some(h) = mesh.triangles.intersect(i, &wray, t_min, t_best) {
+                t_best = h.t;
+                best = Some((i, h));
+            }
+        }
+        if t_best <= span.t_exit {
+            break;
+        }
+    }
+    best
+}
+
+/// True when some triangle is hit in `(t_min, t_max)` (stops at the first).
+#[inline]
+pub fn occluded<L: TriangleLayout>(
+    mesh: &MeshEntry<L>,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+    cost: &mut TraversalCost,
+) -> bool {
+    let grid = &mesh.asset.grid;
+    let wray = WatertightRay::new(ray);
+    for span in GridWalk::new(grid, ray, t_min, t_max) {
+        cost.cells += 1;
+        for &i in grid.cell_prims(span.cell) {
+            cost.tests += 1;
+            if mesh.triangles.intersect(i, &wray, t_min, t_max).is_some() {
+                return true;
+            }
+        }
+    }
+    false
+}
+
+/// Nearest triangle hit by testing every triangle: the reference for the mesh grid.
+pub fn intersect_brute<L: TriangleLayout>(
+    mesh: &MeshEntry<L>,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+) -> Option<(u32, TriangleHit)> {
+    let wray = WatertightRay::new(ray);
+    let mut best = None;
+    let mut t_best = t_max;
+    for i in 0..mesh.triangles.len() {
+        if let Some(h) = mesh.triangles.intersect(i, &wray, t_min, t_best) {
+            t_best = h.t;
+            best = Some((i, h));
+        }
+    }
+    best
+}
+
+/// Nearest hit of a ray with mesh instance `object`: the ray enters the mesh through
+/// `to_object` (shared by both store layouts).
+#[inline]
+pub fn instance_hit<L: TriangleLayout>(
+    mesh: &MeshEntry<L>,
+    to_object: &Affine3A,
+    object: u32,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+    cost: &mut TraversalCost,
+) -> Option<super::Hit> {
+    intersect(mesh, &object_ray(to_object, ray), t_min, t_max, cost)
+        .map(|(i, h)| super::Hit::triangle(object, i, &h))
+}
+
+/// Geometric and shading normals in world space at a hit on a mesh instance, the normal map
+/// being the transpose of the world-to-object map's linear part.
+pub fn instance_normals<L: TriangleLayout>(
+    mesh: &MeshEntry<L>,
+    to_object: &Affine3A,
+    hit: &super::Hit,
+) -> (Vec3, Vec3) {
+    let [a, b, c] = mesh.triangles.vertices(hit.prim);
+    let local = (b - a).cross(c - a);
+    let normal_map = to_object.matrix3.transpose();
+    let geometric = normal_map.mul_vec3(local).try_normalize().unwrap_or(Vec3::Y);
+    if mesh.asset.data.normals.is_empty() {
+        return (geometric, geometric);
+    }
+    let local_shading = mesh.asset.shading_normal(hit.prim, hit.u, hit.v, local);
+    let shading = normal_map.mul_vec3(local_shading).try_normalize().unwrap_or(geometric);
+    (geometric, shading)
+}
