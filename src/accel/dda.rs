@@ -8,7 +8,7 @@
 //! pbrt's `DDAMajorantIterator`, the walk is an iterator, so callers decide when to stop.
 
 use super::grid::UniformGrid;
-use crate::math::{Ray, Vec3};
+use crate::math::Ray;
 
 /// One cell on a ray's path, with the ray's parametric range `[t_enter, t_exit]` inside it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -22,14 +22,26 @@ pub struct CellSpan {
 }
 
 /// Iterator over the cells a ray crosses between `t_min` and `t_max`, front to back.
+///
+/// The state is kept in plain per-axis arrays (no `Vec3` indexing in the loop) and the cell as
+/// a linear index moved by per-axis strides.
 #[derive(Debug, Clone)]
 pub struct GridWalk<'g> {
     grid: &'g UniformGrid,
+    /// Cell coordinate per axis.
     cell: [i32; 3],
+    /// −1, 0 or +1 per axis.
     step: [i32; 3],
-    t_next: Vec3,
-    origin: Vec3,
-    inv_dir: Vec3,
+    /// Coordinate at which the walk leaves the grid per axis (−1 or `dims`).
+    out: [i32; 3],
+    /// Change of the linear index per step on each axis.
+    stride: [i32; 3],
+    /// Linear index of the current cell.
+    index: i32,
+    /// Ray parameter of the next wall crossing per axis (∞ where the ray never crosses one).
+    t_next: [f32; 3],
+    origin: [f32; 3],
+    inv_dir: [f32; 3],
     t_enter: f32,
     t_end: f32,
     done: bool,
@@ -37,15 +49,19 @@ pub struct GridWalk<'g> {
 
 impl<'g> GridWalk<'g> {
     /// Starts a walk of `ray` restricted to `[t_min, t_max]` and to the grid's bounds.
+    #[inline]
     pub fn new(grid: &'g UniformGrid, ray: &Ray, t_min: f32, t_max: f32) -> Self {
         let inv_dir = ray.dir.recip();
         let mut walk = GridWalk {
             grid,
             cell: [0; 3],
             step: [0; 3],
-            t_next: Vec3::INFINITY,
-            origin: ray.origin,
-            inv_dir,
+            out: [0; 3],
+            stride: [1, grid.dims[0] as i32, (grid.dims[0] * grid.dims[1]) as i32],
+            index: 0,
+            t_next: [f32::INFINITY; 3],
+            origin: ray.origin.to_array(),
+            inv_dir: inv_dir.to_array(),
             t_enter: 0.0,
             t_end: 0.0,
             done: true,
@@ -58,12 +74,15 @@ impl<'g> GridWalk<'g> {
             let d = ray.dir[axis];
             let c = entry[axis];
             walk.cell[axis] = c as i32;
+            walk.index += c as i32 * walk.stride[axis];
             // `d == 0.0` is true for -0.0 too: such a ray never crosses a wall on this axis.
             if d > 0.0 {
                 walk.step[axis] = 1;
+                walk.out[axis] = grid.dims[axis] as i32;
                 walk.t_next[axis] = (grid.plane(axis, c + 1) - ray.origin[axis]) * inv_dir[axis];
             } else if d < 0.0 {
                 walk.step[axis] = -1;
+                walk.out[axis] = -1;
                 walk.t_next[axis] = (grid.plane(axis, c) - ray.origin[axis]) * inv_dir[axis];
             }
         }
@@ -82,19 +101,18 @@ impl Iterator for GridWalk<'_> {
         if self.done {
             return None;
         }
-        let dims = self.grid.dims;
-        let cell = self.grid.cell_index(self.cell[0] as u32, self.cell[1] as u32, self.cell[2] as u32);
+        let cell = self.index as u32;
         // Axis of the nearest wall; ties go to the lowest axis (the next span is then empty).
         let t = self.t_next;
-        let axis = if t.x <= t.y && t.x <= t.z {
+        let axis = if t[0] <= t[1] && t[0] <= t[2] {
             0
-        } else if t.y <= t.z {
+        } else if t[1] <= t[2] {
             1
         } else {
             2
         };
         let next = self.cell[axis] + self.step[axis];
-        let leaves = t[axis] >= self.t_end || next < 0 || next >= dims[axis] as i32;
+        let leaves = t[axis] >= self.t_end || next == self.out[axis];
         // The last span ends exactly at the clip range; rounding never lets time run backwards.
         let t_exit = if leaves { self.t_end } else { t[axis].max(self.t_enter) };
         let span = CellSpan { cell, t_enter: self.t_enter, t_exit };
@@ -102,6 +120,7 @@ impl Iterator for GridWalk<'_> {
             self.done = true;
         } else {
             self.cell[axis] = next;
+            self.index += self.step[axis] * self.stride[axis];
             self.t_enter = t_exit;
             // Recompute the crossing from the wall itself (no accumulated drift): crossings
             // agree exactly with the cell boxes the grid was built with.
@@ -116,7 +135,7 @@ impl Iterator for GridWalk<'_> {
 mod tests {
     use super::*;
     use crate::accel::GridBuilder;
-    use crate::math::Aabb;
+    use crate::math::{Aabb, Vec3};
 
     /// A 4×4×4 grid over [0, 4]³ (exactly: λ·N = 64 cells over 64 unit cubes... built from bounds).
     fn unit_grid() -> UniformGrid {

@@ -65,10 +65,11 @@ impl UniformGrid {
     /// the grid's bound, whatever the rounding. The DDA steps through these same walls.
     #[inline]
     pub fn plane(&self, axis: usize, i: u32) -> f32 {
+        // Arrays, not `Vec3` indexing: this is on the DDA's hot path.
         if i >= self.dims[axis] {
-            self.bounds.max[axis]
+            self.bounds.max.to_array()[axis]
         } else {
-            self.bounds.min[axis] + i as f32 * self.cell_size[axis]
+            self.bounds.min.to_array()[axis] + i as f32 * self.cell_size.to_array()[axis]
         }
     }
 

@@ -12,6 +12,10 @@ use crate::math::{Aabb, Vec3};
 /// within ~5% of the best on both.
 pub const DEFAULT_LAMBDA: f32 = 2.0;
 
+/// Grid density λ of mesh assets' own grids (cells per triangle), chosen by
+/// `benches/scaling.rs` (`mesh_lambda`): see `docs/meshes.md` for the curve.
+pub const MESH_LAMBDA: f32 = 4.0;
+
 /// Cap on cells per axis and in total, so a pathological scene cannot exhaust memory.
 const MAX_DIM: u32 = 1024;
 const MAX_CELLS: usize = 1 << 24;

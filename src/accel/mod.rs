@@ -10,4 +10,4 @@ pub mod grid_build;
 
 pub use dda::{CellSpan, GridWalk};
 pub use grid::UniformGrid;
-pub use grid_build::{GridBuilder, DEFAULT_LAMBDA};
+pub use grid_build::{GridBuilder, DEFAULT_LAMBDA, MESH_LAMBDA};

@@ -8,10 +8,13 @@ use std::time::Instant;
 use anyhow::Context;
 use clap::Args;
 
-use penumbra::film::{write_atomically, write_image, AovSet, OutputFormat, ToneMapping, ToneOperator};
+use penumbra::film::{
+    write_atomically, write_image, AovSet, Aovs, Film, OutputFormat, ToneMapping, ToneOperator,
+};
 use penumbra::sample::Pattern;
 use penumbra::scene::{self, AdaptiveDesc, LightDesc, SceneDesc, DEFAULT_SCENE_ORIGIN, DEFAULT_SCENE_SOURCE};
-use penumbra::trace::{render_with_aovs, RenderStats};
+use penumbra::store::{AosStore, PrimitiveStore, SoaStore};
+use penumbra::trace::{render_with_aovs, RenderSettings, RenderStats};
 use penumbra::world::SceneWorld;
 
 use super::meta;
@@ -26,9 +29,23 @@ pub struct RenderArgs {
     /// Print detailed statistics and write them as JSON to this file.
     #[arg(long, value_name = "STATS.json")]
     stats: Option<PathBuf>,
+    /// Memory layout of the primitives: structure of arrays or array of structures (the same
+    /// image, bit for bit; for measuring what the layout is worth).
+    #[arg(long, value_enum, default_value_t = Layout::Soa)]
+    layout: Layout,
     /// How to render and encode the image.
     #[command(flatten)]
     pub frame: FrameArgs,
+}
+
+/// Primitive memory layout (`--layout`).
+#[derive(clap::ValueEnum, Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Layout {
+    /// Structure of arrays: one array per coordinate.
+    #[default]
+    Soa,
+    /// Array of structures: one struct per primitive.
+    Aos,
 }
 
 /// The options every rendering command shares: image size, threads, sampling, encoding.
@@ -186,20 +203,12 @@ pub fn run(args: &RenderArgs, replay: &[String]) -> anyhow::Result<()> {
 
     let pool = args.frame.thread_pool()?;
     let wanted = args.frame.aov.unwrap_or_default();
-    let (film, aovs, mut stats, settings) = pool.install(|| {
-        let started = Instant::now();
-        let mut world: SceneWorld = scene::spawn_world(&desc);
-        let spawn = started.elapsed().as_secs_f64();
-        let snapshot = world.update();
-        let settings = world.render_settings();
-        let clock = world.stage_clock();
-        let (film, aovs, mut stats) = render_with_aovs(&snapshot, &settings, wanted);
-        stats.times.world_update = spawn + clock.bounds;
-        stats.times.grid_build = clock.grid_build;
-        stats.times.snapshot = clock.snapshot;
-        (film, aovs, stats, settings)
+    let (film, aovs, mut stats, settings) = pool.install(|| match args.layout {
+        Layout::Soa => render_frame::<SoaStore>(&desc, wanted),
+        Layout::Aos => render_frame::<AosStore>(&desc, wanted),
     });
-    stats.times.load = load;
+    stats.times.mesh_grid_build = desc.meshes.grid_build_seconds();
+    stats.times.load = (load - stats.times.mesh_grid_build).max(0.0);
 
     let origin =
         args.scene.as_ref().map_or_else(|| DEFAULT_SCENE_ORIGIN.to_string(), |p| p.display().to_string());
@@ -208,6 +217,24 @@ pub fn run(args: &RenderArgs, replay: &[String]) -> anyhow::Result<()> {
     let written = write_image(&film, aovs.as_ref(), &args.output, format, &tone, &metadata)?;
     stats.times.write = started.elapsed().as_secs_f64();
     report(&stats, &written, aovs.as_ref().map(|a| a.object_names.as_slice()), args.stats.as_deref())
+}
+
+/// Spawns, updates and renders one frame with primitive layout `S`.
+fn render_frame<S: PrimitiveStore>(
+    desc: &SceneDesc,
+    wanted: AovSet,
+) -> (Film, Option<Aovs>, RenderStats, RenderSettings) {
+    let started = Instant::now();
+    let mut world: SceneWorld<S> = scene::spawn_world(desc);
+    let spawn = started.elapsed().as_secs_f64();
+    let snapshot = world.update();
+    let settings = world.render_settings();
+    let clock = world.stage_clock();
+    let (film, aovs, mut stats) = render_with_aovs(&snapshot, &settings, wanted);
+    stats.times.world_update = spawn + clock.bounds;
+    stats.times.grid_build = clock.grid_build;
+    stats.times.snapshot = clock.snapshot;
+    (film, aovs, stats, settings)
 }
 
 /// Prints a line to stdout; a closed stdout (`penumbra ... | head`) is not an error.

@@ -144,9 +144,9 @@ impl Placed {
         match self {
             Placed::Sphere { centre, radius } => Some(sphere::bounds(*centre, *radius)),
             Placed::Plane { .. } => None,
-            Placed::Triangles(tris) => {
-                Some(tris.iter().fold(Aabb::EMPTY, |b, [v0, v1, v2]| b.union(triangle::bounds(*v0, *v1, *v2))))
-            }
+            Placed::Triangles(tris) => Some(
+                tris.iter().fold(Aabb::EMPTY, |b, [v0, v1, v2]| b.union(triangle::bounds(*v0, *v1, *v2))),
+            ),
             Placed::Cuboid { to_world, min, max, .. } => Some(cuboid::bounds(to_world, *min, *max)),
             Placed::Instance { bounds, .. } => Some(*bounds),
         }
@@ -162,7 +162,9 @@ impl Placed {
             Placed::Triangles(tris) => {
                 tris.iter().any(|[v0, v1, v2]| triangle::overlaps_box(*v0, *v1, *v2, cell))
             }
-            Placed::Cuboid { .. } | Placed::Instance { .. } => self.bounds().is_some_and(|b| b.overlaps(cell)),
+            Placed::Cuboid { .. } | Placed::Instance { .. } => {
+                self.bounds().is_some_and(|b| b.overlaps(cell))
+            }
         }
     }
 }

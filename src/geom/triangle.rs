@@ -75,7 +75,14 @@ pub fn bounds(v0: Vec3, v1: Vec3, v2: Vec3) -> Aabb {
 /// Watertight intersection within `(t_min, t_max)`; both faces are hit; a degenerate
 /// (zero-area) triangle is never hit.
 #[inline]
-pub fn intersect(v0: Vec3, v1: Vec3, v2: Vec3, ray: &WatertightRay, t_min: f32, t_max: f32) -> Option<TriangleHit> {
+pub fn intersect(
+    v0: Vec3,
+    v1: Vec3,
+    v2: Vec3,
+    ray: &WatertightRay,
+    t_min: f32,
+    t_max: f32,
+) -> Option<TriangleHit> {
     let (ax, ay, az) = ray.shear(v0);
     let (bx, by, bz) = ray.shear(v1);
     let (cx, cy, cz) = ray.shear(v2);

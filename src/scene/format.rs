@@ -61,6 +61,9 @@ pub struct SceneDesc {
     pub lights: Vec<LightDesc>,
     /// Renderable objects.
     pub objects: Vec<ObjectDesc>,
+    /// The meshes the objects name, loaded and gridded by `load_scene` (not part of the file).
+    #[serde(skip)]
+    pub meshes: super::mesh::MeshLibrary,
 }
 
 /// The camera: where it is, where it looks and the image it makes.
@@ -384,6 +387,20 @@ pub enum ShapeDesc {
         /// Maximum corner; strictly greater than `min` on every axis.
         max: Vec3,
     },
+    /// A triangle mesh from a Wavefront OBJ file, placed by the object's `transform`. Every
+    /// object naming the same file (and `smooth`) shares one copy of it and one grid.
+    Mesh {
+        /// The OBJ file, relative to the scene file.
+        file: String,
+        /// Phong shading with interpolated vertex normals (the file's, or computed weighted by
+        /// area and angle); `false` shows flat facets. Default `true`.
+        #[serde(default = "default_true")]
+        smooth: bool,
+    },
+}
+
+fn default_true() -> bool {
+    true
 }
 
 impl ShapeDesc {
@@ -395,6 +412,7 @@ impl ShapeDesc {
             ShapeDesc::Triangle { .. } => "triangle",
             ShapeDesc::Polygon { .. } => "polygon",
             ShapeDesc::Cuboid { .. } => "box",
+            ShapeDesc::Mesh { .. } => "mesh",
         }
     }
 }

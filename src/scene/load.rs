@@ -15,6 +15,7 @@ use ron::extensions::Extensions;
 use super::error::SceneError;
 use super::format::SceneDesc;
 use super::locate::{path_at, position_of, value_source, FieldPath, Segment};
+use super::mesh::load_meshes;
 use super::validate::validate;
 
 /// The text of the built-in default scene, `scenes/default.ron`.
@@ -36,7 +37,12 @@ pub const DEFAULT_SCENE_ORIGIN: &str = "<built-in default scene>";
 /// assert_eq!(error.to_string(), "ball.ron:4:72: field `objects[0].shape.radius`: must be > 0, got -1");
 /// ```
 pub fn parse_scene(text: &str, origin: &str) -> Result<SceneDesc, SceneError> {
-    let scene = ron::Options::default()
+    parse_scene_at(text, origin, Path::new("."))
+}
+
+/// [`parse_scene`], with the meshes it names read relative to `base`.
+pub fn parse_scene_at(text: &str, origin: &str, base: &Path) -> Result<SceneDesc, SceneError> {
+    let mut scene = ron::Options::default()
         .with_default_extension(Extensions::IMPLICIT_SOME)
         .from_str::<SceneDesc>(text)
         .map_err(|error| from_ron(text, origin, &error))?;
@@ -44,6 +50,7 @@ pub fn parse_scene(text: &str, origin: &str) -> Result<SceneDesc, SceneError> {
         let (line, col) = position_of(text, &violation.path).unwrap_or((1, 1));
         invalid(origin, (line, col), &violation.path, violation.rule)
     })?;
+    load_meshes(&mut scene, base, text, origin)?;
     Ok(scene)
 }
 
@@ -58,7 +65,8 @@ pub fn parse_scene(text: &str, origin: &str) -> Result<SceneDesc, SceneError> {
 pub fn load_scene(path: &Path) -> Result<SceneDesc, SceneError> {
     let text = std::fs::read_to_string(path)
         .map_err(|source| SceneError::Io { path: path.to_path_buf(), source })?;
-    parse_scene(&text, &path.display().to_string())
+    let base = path.parent().unwrap_or_else(|| Path::new("."));
+    parse_scene_at(&text, &path.display().to_string(), base)
 }
 
 /// The built-in default scene (`scenes/default.ron`, compiled in).

@@ -17,10 +17,14 @@ pub mod error;
 pub mod format;
 pub mod load;
 pub mod locate;
+pub mod mesh;
+pub mod obj;
 pub mod spawn;
 pub mod validate;
 
 pub use error::SceneError;
 pub use format::*;
-pub use load::{default_scene, load_scene, parse_scene, DEFAULT_SCENE_ORIGIN, DEFAULT_SCENE_SOURCE};
+pub use load::{
+    default_scene, load_scene, parse_scene, parse_scene_at, DEFAULT_SCENE_ORIGIN, DEFAULT_SCENE_SOURCE,
+};
 pub use spawn::spawn_world;

@@ -4,6 +4,7 @@
 use bevy_ecs::prelude::World;
 
 use super::format::{LightDesc, MaterialDesc, SamplingDesc, SceneDesc, ShapeDesc};
+use super::mesh::MeshLibrary;
 use crate::accel::DEFAULT_LAMBDA;
 use crate::geom;
 use crate::sample::adaptive::AdaptiveSettings;
@@ -11,7 +12,7 @@ use crate::sample::warp::orthonormal_basis;
 use crate::store::{MaterialId, PrimitiveStore};
 use crate::trace::{self, AntiAliasing, Sampling};
 use crate::world::components::{Light, MaterialRef, Name, Shape, Transform, Visible, WorldAabb, WorldShape};
-use crate::world::resources::{CameraRig, Focus, Materials, SceneSettings};
+use crate::world::resources::{CameraRig, Focus, Materials, MeshTable, SceneSettings};
 use crate::world::SceneWorld;
 
 /// A World holding the scene: the caller has validated `desc` (see `super::load`).
@@ -59,7 +60,11 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
     });
 
     for (i, object) in desc.objects.iter().enumerate() {
-        let shape = shape_of(&object.shape);
+        let Some(shape) = shape_in(&object.shape, &desc.meshes) else {
+            // Only a description that `load_scene` did not load can name an unloaded mesh.
+            debug_assert!(false, "objects[{i}] names a mesh that was not loaded");
+            continue;
+        };
         let t = &object.transform;
         let transform = Transform::from_scene(t.translate, t.rotate_deg, t.scale);
         let placed = shape.place(&transform.to_affine());
@@ -81,12 +86,27 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
         world.spawn((Name::new(format!("light_{i}")), Light(light_of(light)), Visible(true)));
     }
     world.insert_resource(materials);
+    world.insert_resource(MeshTable(desc.meshes.assets()));
     SceneWorld::new(world)
 }
 
-/// Engine geometry of a shape description.
-pub fn shape_of(desc: &ShapeDesc) -> geom::Shape {
+/// Engine geometry of a shape description, mesh ids taken from `meshes`; `None` for a mesh
+/// the library has not loaded.
+pub fn shape_in(desc: &ShapeDesc, meshes: &MeshLibrary) -> Option<geom::Shape> {
     match desc {
+        ShapeDesc::Mesh { file, smooth } => {
+            let (id, asset) = meshes.get(file, *smooth)?;
+            Some(geom::Shape::Mesh { mesh: id, bounds: asset.data.bounds })
+        }
+        other => Some(shape_of(other)),
+    }
+}
+
+/// Engine geometry of a shape description other than a mesh (which needs the mesh library:
+/// see [`shape_in`]); a mesh gives an empty polygon.
+fn shape_of(desc: &ShapeDesc) -> geom::Shape {
+    match desc {
+        ShapeDesc::Mesh { .. } => geom::Shape::Polygon { vertices: Vec::new() },
         ShapeDesc::Sphere { centre, radius } => geom::Shape::Sphere { centre: *centre, radius: *radius },
         ShapeDesc::Plane { point, normal } => geom::Shape::Plane { point: *point, normal: *normal },
         ShapeDesc::Triangle { vertices } => geom::Shape::Triangle { vertices: *vertices },

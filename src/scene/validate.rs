@@ -365,6 +365,11 @@ fn shape(path: &FieldPath, shape: &ShapeDesc) -> Check {
             }
         }
         ShapeDesc::Polygon { vertices } => polygon(&path.clone().field("vertices"), vertices)?,
+        ShapeDesc::Mesh { file, .. } => {
+            if file.trim().is_empty() {
+                return fail(path, "file", "must name an OBJ file, got an empty string".into());
+            }
+        }
         ShapeDesc::Cuboid { min, max } => {
             finite_vec(path, "min", *min)?;
             finite_vec(path, "max", *max)?;

@@ -93,7 +93,11 @@ pub struct AosStore {
 impl PrimitiveStore for AosStore {
     type Triangles = AosTriangles;
 
-    fn build(bounded: &[PlacedObject], unbounded: &[PlacedObject], meshes: &[Arc<MeshEntry<AosTriangles>>]) -> Self {
+    fn build(
+        bounded: &[PlacedObject],
+        unbounded: &[PlacedObject],
+        meshes: &[Arc<MeshEntry<AosTriangles>>],
+    ) -> Self {
         let mut tris = Vec::new();
         let mut objects = Vec::with_capacity(bounded.len());
         for obj in bounded {
@@ -187,7 +191,8 @@ impl PrimitiveStore for AosStore {
     #[inline]
     fn intersect_unbounded(&self, i: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
         let p = &self.planes[i as usize];
-        plane::intersect(p.normal, p.offset, ray, t_min, t_max).map(|t| Hit::new(t, i | super::UNBOUNDED_FLAG, 0))
+        plane::intersect(p.normal, p.offset, ray, t_min, t_max)
+            .map(|t| Hit::new(t, i | super::UNBOUNDED_FLAG, 0))
     }
 
     #[inline]
@@ -203,28 +208,34 @@ impl PrimitiveStore for AosStore {
         let point = ray.at(hit.t);
         if hit.object & super::UNBOUNDED_FLAG != 0 {
             let p = &self.planes[(hit.object & !super::UNBOUNDED_FLAG) as usize];
-            return SurfacePoint { point, normal: p.normal, shading: p.normal, material: p.material };
+            return SurfacePoint {
+                point,
+                normal: p.normal,
+                shading: p.normal,
+                lift: Vec3::ZERO,
+                material: p.material,
+            };
         }
         let obj = &self.objects[hit.object as usize];
-        let (normal, shading) = match &obj.shape {
+        let (normal, shading, lift) = match &obj.shape {
             AosShape::Sphere { centre, radius } => {
                 let n = sphere::normal(*centre, *radius, point);
-                (n, n)
+                (n, n, Vec3::ZERO)
             }
             AosShape::Triangles { first, .. } => {
                 let [a, b, c] = self.triangles.vertices(first + hit.prim);
                 let n = triangle::normal(a, b, c);
-                (n, n)
+                (n, n, Vec3::ZERO)
             }
             AosShape::Cuboid { to_object, .. } => {
                 let n = super::cuboid_normal(to_object, hit.prim);
-                (n, n)
+                (n, n, Vec3::ZERO)
             }
             AosShape::Instance { to_object, mesh } => {
                 mesh::instance_normals(&self.meshes[*mesh as usize], to_object, hit)
             }
         };
-        SurfacePoint { point, normal, shading, material: obj.material }
+        SurfacePoint { point, normal, shading, lift, material: obj.material }
     }
 
     fn memory_bytes(&self) -> usize {

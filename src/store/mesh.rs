@@ -182,21 +182,45 @@ pub fn instance_hit<L: TriangleLayout>(
         .map(|(i, h)| super::Hit::triangle(object, i, &h))
 }
 
-/// Geometric and shading normals in world space at a hit on a mesh instance, the normal map
-/// being the transpose of the world-to-object map's linear part.
+/// Geometric and shading normals in world space at a hit on a mesh instance, and the lift of
+/// the point for rays leaving its front (see [`super::SurfacePoint::lift`]). Normals map by the
+/// transpose of the world-to-object map's linear part.
 pub fn instance_normals<L: TriangleLayout>(
     mesh: &MeshEntry<L>,
     to_object: &Affine3A,
     hit: &super::Hit,
-) -> (Vec3, Vec3) {
+) -> (Vec3, Vec3, Vec3) {
     let [a, b, c] = mesh.triangles.vertices(hit.prim);
     let local = (b - a).cross(c - a);
     let normal_map = to_object.matrix3.transpose();
     let geometric = normal_map.mul_vec3(local).try_normalize().unwrap_or(Vec3::Y);
-    if mesh.asset.data.normals.is_empty() {
-        return (geometric, geometric);
+    let data = &mesh.asset.data;
+    if data.normals.is_empty() {
+        return (geometric, geometric, Vec3::ZERO);
     }
-    let local_shading = mesh.asset.shading_normal(hit.prim, hit.u, hit.v, local);
+    let mut local_shading = mesh.asset.shading_normal(hit.prim, hit.u, hit.v, local);
+    // A face wound against its neighbours (scanned meshes have some) keeps its own side.
+    if local_shading.dot(local) < 0.0 {
+        local_shading = -local_shading;
+    }
     let shading = normal_map.mul_vec3(local_shading).try_normalize().unwrap_or(geometric);
-    (geometric, shading)
+    // Lift: project the hit point onto each vertex's tangent plane and blend with the
+    // barycentrics; keep it only where it lies above the facet (convex parts).
+    let w = [1.0 - hit.u - hit.v, hit.u, hit.v];
+    let p = a * w[0] + b * hit.u + c * hit.v;
+    let normals = data.indices[hit.prim as usize].map(|k| data.normals[k as usize]);
+    let lifted: Vec3 =
+        [a, b, c].iter().zip(normals).zip(w).map(|((&v, n), wi)| (p - (p - v).dot(n) * n) * wi).sum();
+    let offset = lifted - p;
+    let lift = if offset.dot(local) > 0.0 {
+        let world = to_object.matrix3.inverse().mul_vec3(offset);
+        if world.is_finite() {
+            world
+        } else {
+            Vec3::ZERO
+        }
+    } else {
+        Vec3::ZERO
+    };
+    (geometric, shading, lift)
 }

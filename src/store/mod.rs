@@ -79,6 +79,11 @@ pub struct SurfacePoint {
     pub normal: Vec3,
     /// Unit shading normal: the interpolated vertex normal of a smooth mesh, else `normal`.
     pub shading: Vec3,
+    /// Where rays leaving the front side start from, relative to `point`: on a smooth mesh the
+    /// point lifted towards the curved surface its vertex normals describe (Hanika 2021,
+    /// "Hacking the shadow terminator"), so that shadow rays do not fall back onto the flat
+    /// facet; zero elsewhere.
+    pub lift: Vec3,
     /// Material of the object hit.
     pub material: MaterialId,
 }
@@ -126,8 +131,14 @@ pub trait PrimitiveStore: Send + Sync + Sized + std::fmt::Debug + 'static {
     /// Number of bounded objects.
     fn bounded_count(&self) -> u32;
     /// Nearest hit with bounded object `id` in `(t_min, t_max)`, adding its cost.
-    fn intersect_bounded(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32, cost: &mut TraversalCost)
-        -> Option<Hit>;
+    fn intersect_bounded(
+        &self,
+        id: u32,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        cost: &mut TraversalCost,
+    ) -> Option<Hit>;
     /// True when bounded object `id` is hit anywhere in `(t_min, t_max)`.
     fn occludes_bounded(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32, cost: &mut TraversalCost) -> bool {
         self.intersect_bounded(id, ray, t_min, t_max, cost).is_some()

@@ -69,7 +69,12 @@ impl Affines {
 
     #[inline]
     fn get(&self, i: usize) -> Affine3A {
-        Affine3A::from_cols(self.x.get(i).into(), self.y.get(i).into(), self.z.get(i).into(), self.w.get(i).into())
+        Affine3A::from_cols(
+            self.x.get(i).into(),
+            self.y.get(i).into(),
+            self.z.get(i).into(),
+            self.w.get(i).into(),
+        )
     }
 
     fn bytes(&self) -> usize {
@@ -153,7 +158,11 @@ pub struct SoaStore {
 impl PrimitiveStore for SoaStore {
     type Triangles = SoaTriangles;
 
-    fn build(bounded: &[PlacedObject], unbounded: &[PlacedObject], meshes: &[Arc<MeshEntry<SoaTriangles>>]) -> Self {
+    fn build(
+        bounded: &[PlacedObject],
+        unbounded: &[PlacedObject],
+        meshes: &[Arc<MeshEntry<SoaTriangles>>],
+    ) -> Self {
         let mut s = SoaStore { meshes: meshes.to_vec(), ..Default::default() };
         let mut tris = Vec::new();
         for obj in bounded {
@@ -231,7 +240,15 @@ impl PrimitiveStore for SoaStore {
             Kind::Cuboid => {
                 cost.tests += 1;
                 let to_object = self.box_to_object.get(first);
-                super::cuboid_hit(&to_object, self.box_min.get(first), self.box_max.get(first), id, ray, t_min, t_max)
+                super::cuboid_hit(
+                    &to_object,
+                    self.box_min.get(first),
+                    self.box_max.get(first),
+                    id,
+                    ray,
+                    t_min,
+                    t_max,
+                )
             }
             Kind::Instance => {
                 let mesh = &self.meshes[self.instance_mesh[first] as usize];
@@ -289,30 +306,36 @@ impl PrimitiveStore for SoaStore {
         if hit.object & super::UNBOUNDED_FLAG != 0 {
             let i = (hit.object & !super::UNBOUNDED_FLAG) as usize;
             let normal = self.plane_normal.get(i);
-            return SurfacePoint { point, normal, shading: normal, material: self.plane_material[i] };
+            return SurfacePoint {
+                point,
+                normal,
+                shading: normal,
+                lift: Vec3::ZERO,
+                material: self.plane_material[i],
+            };
         }
         let o = hit.object as usize;
         let first = self.first[o] as usize;
-        let (normal, shading) = match self.kind[o] {
+        let (normal, shading, lift) = match self.kind[o] {
             Kind::Sphere => {
                 let n = sphere::normal(self.centre.get(first), self.radius[first], point);
-                (n, n)
+                (n, n, Vec3::ZERO)
             }
             Kind::Triangles => {
                 let [a, b, c] = self.triangles.vertices(first as u32 + hit.prim);
                 let n = triangle::normal(a, b, c);
-                (n, n)
+                (n, n, Vec3::ZERO)
             }
             Kind::Cuboid => {
                 let n = super::cuboid_normal(&self.box_to_object.get(first), hit.prim);
-                (n, n)
+                (n, n, Vec3::ZERO)
             }
             Kind::Instance => {
                 let mesh = &self.meshes[self.instance_mesh[first] as usize];
                 mesh::instance_normals(mesh, &self.instance_to_object.get(first), hit)
             }
         };
-        SurfacePoint { point, normal, shading, material: self.material[o] }
+        SurfacePoint { point, normal, shading, lift, material: self.material[o] }
     }
 
     fn memory_bytes(&self) -> usize {
@@ -323,7 +346,11 @@ impl PrimitiveStore for SoaStore {
             + self.box_to_object.bytes()
             + self.instance_to_object.bytes()
             + self.kind.len() * (1 + 4 + 4 + 4)
-            + (self.radius.len() + self.plane_offset.len() + self.plane_material.len() + self.instance_mesh.len()) * f
+            + (self.radius.len()
+                + self.plane_offset.len()
+                + self.plane_material.len()
+                + self.instance_mesh.len())
+                * f
     }
 
     fn meshes(&self) -> &[Arc<MeshEntry<SoaTriangles>>] {

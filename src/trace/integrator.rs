@@ -307,7 +307,14 @@ pub fn radiance<S: PrimitiveStore>(
         _ => n,
     };
     let eps = offset_distance(sp.point, scene.offset_floor);
-    let surface = Surface { point: sp.point, normal: ns, above: sp.point + n * eps, eps };
+    // Rays leave the front of a smooth mesh from its lifted point (no shadow terminator).
+    let origin = if entering { sp.point + sp.lift } else { sp.point };
+    let surface = Surface {
+        point: sp.point,
+        normal: ns,
+        above: origin + n * offset_distance(origin, scene.offset_floor),
+        eps,
+    };
     let mut colour = scene.ambient * m.kd + direct_light(scene, &m, &surface, -ray.dir, ctx);
 
     if depth >= ctx.max_depth {

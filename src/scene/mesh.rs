@@ -1,0 +1,121 @@
+//! The meshes a scene names: each distinct `(file, smooth)` pair is read once (OBJ through
+//! [`super::obj`]), gets its object-space grid, and is shared by every object that names it.
+//!
+//! ```ron
+//! (name: "bunny", shape: Mesh(file: "bunny_res3.obj", smooth: true), material: "clay",
+//!  transform: (translate: (0, -0.6, 0), scale: (10, 10, 10))),
+//! ```
+//!
+//! Paths are relative to the scene file. A file that cannot be read or parsed is reported at
+//! the scene's `file` field, with the OBJ file's own line in the rule.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use super::error::SceneError;
+use super::format::{SceneDesc, ShapeDesc};
+use super::locate::{position_of, FieldPath};
+use super::obj::load_obj;
+use crate::accel::MESH_LAMBDA;
+use crate::geom::MeshId;
+use crate::store::MeshAsset;
+
+/// One loaded mesh and the key it was loaded under.
+#[derive(Debug, Clone)]
+struct Entry {
+    file: String,
+    smooth: bool,
+    asset: Arc<MeshAsset>,
+}
+
+/// The loaded meshes of a scene, in first-use order (which defines their [`MeshId`]s).
+#[derive(Debug, Clone, Default)]
+pub struct MeshLibrary {
+    entries: Vec<Entry>,
+}
+
+impl PartialEq for MeshLibrary {
+    /// Two libraries are equal when they hold the same files loaded the same way.
+    fn eq(&self, other: &Self) -> bool {
+        self.entries.len() == other.entries.len()
+            && self.entries.iter().zip(&other.entries).all(|(a, b)| a.file == b.file && a.smooth == b.smooth)
+    }
+}
+
+impl MeshLibrary {
+    /// The id and asset of `file` loaded with `smooth`, if loaded.
+    pub fn get(&self, file: &str, smooth: bool) -> Option<(MeshId, &Arc<MeshAsset>)> {
+        self.entries
+            .iter()
+            .position(|e| e.file == file && e.smooth == smooth)
+            .map(|i| (MeshId(i as u32), &self.entries[i].asset))
+    }
+
+    /// Every asset, in id order.
+    pub fn assets(&self) -> Vec<Arc<MeshAsset>> {
+        self.entries.iter().map(|e| e.asset.clone()).collect()
+    }
+
+    /// Number of distinct meshes.
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// True when the scene has no meshes.
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
+    /// Seconds spent building the meshes' grids.
+    pub fn grid_build_seconds(&self) -> f64 {
+        self.entries.iter().map(|e| e.asset.build_seconds).sum()
+    }
+
+    /// Adds an already loaded asset under `(file, smooth)` (for scenes built in code).
+    pub fn insert(&mut self, file: impl Into<String>, smooth: bool, asset: Arc<MeshAsset>) -> MeshId {
+        let file = file.into();
+        if let Some((id, _)) = self.get(&file, smooth) {
+            return id;
+        }
+        self.entries.push(Entry { file, smooth, asset });
+        MeshId(self.entries.len() as u32 - 1)
+    }
+}
+
+/// Loads every mesh `scene` names, relative to `base` (the scene file's folder), into
+/// `scene.meshes`. `text` and `origin` are the scene's source and name, for error positions.
+pub fn load_meshes(scene: &mut SceneDesc, base: &Path, text: &str, origin: &str) -> Result<(), SceneError> {
+    for (i, object) in scene.objects.iter().enumerate() {
+        let ShapeDesc::Mesh { file, smooth } = &object.shape else {
+            continue;
+        };
+        if scene.meshes.get(file, *smooth).is_some() {
+            continue;
+        }
+        let path = resolve(base, file);
+        let data = load_obj(&path, *smooth).map_err(|error| {
+            let field = FieldPath::root().field("objects").index(i).field("shape").field("file");
+            let (line, col) = position_of(text, &field).unwrap_or((1, 1));
+            SceneError::Invalid {
+                path: origin.to_owned(),
+                line,
+                col,
+                field: field.to_string(),
+                rule: format!("cannot load mesh: {error}"),
+            }
+        })?;
+        let asset = MeshAsset::new(file.clone(), data, MESH_LAMBDA);
+        scene.meshes.insert(file.clone(), *smooth, Arc::new(asset));
+    }
+    Ok(())
+}
+
+/// `file` relative to `base`, unless absolute.
+fn resolve(base: &Path, file: &str) -> PathBuf {
+    let p = Path::new(file);
+    if p.is_absolute() {
+        p.to_path_buf()
+    } else {
+        base.join(p)
+    }
+}
