@@ -5,6 +5,7 @@
 //! Rays are unit length in world space.
 
 pub mod cuboid;
+pub mod mesh;
 pub mod plane;
 pub mod polygon;
 pub mod sphere;
