@@ -10,13 +10,14 @@
 //!
 //! [`locate`] maps field paths to source positions, since ron keeps none for values after
 //! deserialization. [`default_scene`] is the built-in `scenes/default.ron`. [`spawn_world`]
-//! turns a validated scene into a World of entities.
+//! turns a validated scene into a World of entities. [`obj`] imports Wavefront OBJ meshes.
 //!
 //! [`validate`]: validate::validate
 pub mod error;
 pub mod format;
 pub mod load;
 pub mod locate;
+pub mod obj;
 pub mod spawn;
 pub mod validate;
 
