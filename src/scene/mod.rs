@@ -10,7 +10,7 @@
 //!
 //! [`locate`] maps field paths to source positions, since ron keeps none for values after
 //! deserialization. [`default_scene`] is the built-in `scenes/default.ron`. [`spawn_world`]
-//! turns a validated scene into a World of entities.
+//! turns a validated scene into a World of entities. [`obj`] imports Wavefront OBJ meshes.
 //!
 //! [`validate`]: validate::validate
 pub mod error;
