@@ -2,6 +2,8 @@
 //! print its table (skipped under `cargo test --benches`, `--list`, or with
 //! `PENUMBRA_BENCH_NO_TABLE` set).
 
+pub mod rays;
+
 use std::time::Duration;
 
 use criterion::Criterion;

@@ -15,7 +15,9 @@ pub mod scene;
 pub mod stats;
 
 pub use effects::Effects;
-pub use integrator::{closest_hit, closest_hit_brute};
+pub use integrator::{
+    closest_hit, closest_hit_brute, closest_hit_costed, transmittance, transmittance_costed,
+};
 pub use light::Light;
 pub use material::Material;
 pub use render::{render, render_observed, render_with_aovs, AntiAliasing, RenderSettings, Sampling};

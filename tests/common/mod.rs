@@ -169,3 +169,66 @@ pub fn simple_tables() -> SceneTables {
 pub fn scene(objects: &[PlacedObject], lambda: f32) -> TraceScene {
     TraceScene::build(objects, simple_tables(), lambda)
 }
+
+/// A model from `../shared/models/` (beside the repository), if present: benches use the full
+/// bunny, dragon and teapot from there and skip them with a note when absent.
+#[allow(dead_code)]
+pub fn shared_model(file: &str) -> Option<std::path::PathBuf> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/models").join(file);
+    path.exists().then_some(path)
+}
+
+/// A mesh asset loaded from `path` with smooth normals and grid density `lambda`.
+#[allow(dead_code)]
+pub fn mesh_asset(path: &std::path::Path, lambda: f32) -> std::sync::Arc<penumbra::store::MeshAsset> {
+    let data = penumbra::scene::obj::load_obj(path, true).expect("model loads");
+    std::sync::Arc::new(penumbra::store::MeshAsset::new(path.display().to_string(), data, lambda))
+}
+
+/// The map that scales a mesh's bounds to a largest extent of `extent`, centred on the y axis
+/// and resting on y = 0 (ANCHORS.md's mesh scenes use 2.4).
+#[allow(dead_code)]
+pub fn fit_on_ground(bounds: &penumbra::math::Aabb, extent: f32) -> Affine3A {
+    let scale = extent / bounds.extent().max_element();
+    let centre = (bounds.min + bounds.max) * 0.5;
+    let offset = Vec3::new(-centre.x * scale, -bounds.min.y * scale, -centre.z * scale);
+    Affine3A::from_scale_rotation_translation(Vec3::splat(scale), Quat::IDENTITY, offset)
+}
+
+/// ANCHORS.md's mesh scene: the mesh fitted to extent 2.4 on a ground plane, one point light,
+/// Phong, a camera framing it (640×480 is what the anchors use).
+#[allow(dead_code)]
+pub fn mesh_scene<S: penumbra::store::PrimitiveStore>(
+    mesh: std::sync::Arc<penumbra::store::MeshAsset>,
+    lambda: f32,
+) -> TraceScene<S> {
+    let to_world = fit_on_ground(&mesh.data.bounds, 2.4);
+    let shape = Shape::Mesh { mesh: penumbra::geom::MeshId(0), bounds: mesh.data.bounds };
+    let objects = vec![
+        PlacedObject {
+            geometry: Shape::Plane { point: Vec3::ZERO, normal: Vec3::Y }.place(&Affine3A::IDENTITY),
+            material: MaterialId(0),
+        },
+        PlacedObject { geometry: shape.place(&to_world), material: MaterialId(1) },
+    ];
+    let tables = SceneTables {
+        materials: vec![
+            Material { kd: Vec3::splat(0.5), ..Material::default() },
+            Material { kd: Vec3::new(0.75, 0.62, 0.5), ks: 0.4, shininess: 50.0, ..Material::default() },
+        ],
+        lights: vec![penumbra::trace::Light::Point { position: MESH_LIGHT, radiance: Vec3::ONE }],
+        camera: Camera::look_at(
+            Vec3::new(0.0, 1.6, -4.6),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::Y,
+            40f32.to_radians(),
+        ),
+        background: Vec3::new(0.6, 0.7, 0.85),
+        ambient: Vec3::splat(0.1),
+    };
+    TraceScene::build_with_meshes(&objects, &[mesh], tables, lambda)
+}
+
+/// The point light of [`mesh_scene`].
+#[allow(dead_code)]
+pub const MESH_LIGHT: Vec3 = Vec3::new(-3.0, 6.0, -5.0);

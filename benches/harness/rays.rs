@@ -1,0 +1,72 @@
+//! Fixed ray sets for the mesh benches: one camera ray per pixel centre, and one shadow ray
+//! from each camera ray's hit towards a point light; traced in parallel (both cores, as the
+//! anchors' "2T" figures are).
+
+#![allow(dead_code)]
+
+use std::hint::black_box;
+use std::time::{Duration, Instant};
+
+use penumbra::math::{offset_distance, Ray, Vec3};
+use penumbra::store::PrimitiveStore;
+use penumbra::trace::{closest_hit, transmittance, TraceScene};
+use rayon::prelude::*;
+
+/// Camera rays and the shadow rays of their hits (with their lengths).
+pub struct RaySet {
+    /// One per pixel.
+    pub primary: Vec<Ray>,
+    /// One per primary hit: towards the light, with the distance to stop at.
+    pub shadow: Vec<(Ray, f32)>,
+}
+
+/// The rays of a `w × h` image of `scene` lit from `light`.
+pub fn ray_set<S: PrimitiveStore>(scene: &TraceScene<S>, w: u32, h: u32, light: Vec3) -> RaySet {
+    let primary: Vec<Ray> =
+        (0..w * h).map(|p| scene.camera.ray((p % w) as f32 + 0.5, (p / w) as f32 + 0.5, w, h)).collect();
+    let shadow = primary
+        .iter()
+        .filter_map(|ray| {
+            let hit = closest_hit(scene, ray, 0.0, f32::INFINITY)?;
+            let sp = scene.store.surface(&hit, ray);
+            let n = if sp.normal.dot(ray.dir) < 0.0 { sp.normal } else { -sp.normal };
+            let eps = offset_distance(sp.point, scene.offset_floor);
+            let to = light - sp.point;
+            let dist = to.length();
+            Some((Ray::new(sp.point + n * eps, to / dist), dist - eps))
+        })
+        .collect();
+    RaySet { primary, shadow }
+}
+
+/// Closest hits of every ray; returns the number of hits.
+pub fn trace_primary<S: PrimitiveStore>(scene: &TraceScene<S>, rays: &[Ray]) -> usize {
+    rays.par_chunks(256)
+        .map(|c| c.iter().filter(|r| closest_hit(scene, black_box(r), 0.0, f32::INFINITY).is_some()).count())
+        .sum()
+}
+
+/// Shadow tests of every ray; returns the number of occluded rays.
+pub fn trace_shadow<S: PrimitiveStore>(scene: &TraceScene<S>, rays: &[(Ray, f32)]) -> usize {
+    rays.par_chunks(256)
+        .map(|c| c.iter().filter(|(r, t)| transmittance(scene, black_box(r), *t) == 0.0).count())
+        .sum()
+}
+
+/// Median of `reps` timings of `f`.
+pub fn median<T>(reps: usize, mut f: impl FnMut() -> T) -> Duration {
+    let mut times: Vec<Duration> = (0..reps)
+        .map(|_| {
+            let started = Instant::now();
+            black_box(f());
+            started.elapsed()
+        })
+        .collect();
+    times.sort();
+    times[reps / 2]
+}
+
+/// Million rays per second.
+pub fn mrays(rays: usize, t: Duration) -> f64 {
+    rays as f64 / t.as_secs_f64() / 1e6
+}

@@ -1,0 +1,145 @@
+//! Question: what does structure-of-arrays buy over array-of-structures, on the identical
+//! tracer code path (the tracer is generic over the store)?
+//!
+//! Scenes: ANCHORS.md's "many" (100,000 spheres of radius 0.02–0.06 in an 8×8×8 box over a
+//! ground plane), and its "mesh" scenes with the full Stanford bunny (69,451 triangles) and
+//! dragon (871,414) from `../shared/models/` (skipped with a note when absent). Rays: one
+//! camera ray per pixel of a 640×480 image, and one shadow ray per hit towards the point light
+//! (ANCHORS' 0.31 M + ~0.30 M), traced on both cores. Groups `layout_primary` and
+//! `layout_shadow`, ids `soa/SCENE` and `aos/SCENE`; then a table of medians with the ratio.
+//!
+//! Run: `cargo bench --bench layout`.
+
+#[path = "../tests/common/mod.rs"]
+mod common;
+mod harness;
+
+use criterion::{BenchmarkId, Criterion, Throughput};
+use harness::rays::{median, mrays, ray_set, trace_primary, trace_shadow, RaySet};
+use penumbra::camera::Camera;
+use penumbra::geom::Shape;
+use penumbra::math::{Affine3A, Vec3};
+use penumbra::store::{AosStore, MaterialId, PlacedObject, PrimitiveStore, SoaStore};
+use penumbra::trace::{Light, Material, SceneTables, TraceScene};
+use rand::RngExt;
+
+const W: u32 = 640;
+const H: u32 = 480;
+const MANY_LIGHT: Vec3 = Vec3::new(6.0, 14.0, -10.0);
+
+/// ANCHORS.md's "many": 100k random spheres over a ground plane.
+fn many<S: PrimitiveStore>() -> TraceScene<S> {
+    let mut rng = common::rng(100_000);
+    let mut objects: Vec<PlacedObject> = (0..100_000)
+        .map(|_| {
+            let centre = common::point_in(&mut rng, Vec3::new(-4.0, 0.1, -4.0), Vec3::new(4.0, 8.1, 4.0));
+            let radius = rng.random_range(0.02f32..0.06);
+            PlacedObject {
+                geometry: Shape::Sphere { centre, radius }.place(&Affine3A::IDENTITY),
+                material: MaterialId(0),
+            }
+        })
+        .collect();
+    objects.push(PlacedObject {
+        geometry: Shape::Plane { point: Vec3::ZERO, normal: Vec3::Y }.place(&Affine3A::IDENTITY),
+        material: MaterialId(0),
+    });
+    let tables = SceneTables {
+        materials: vec![Material::default()],
+        lights: vec![Light::Point { position: MANY_LIGHT, radiance: Vec3::ONE }],
+        camera: Camera::look_at(
+            Vec3::new(0.0, 4.0, -11.0),
+            Vec3::new(0.0, 4.0, 0.0),
+            Vec3::Y,
+            45f32.to_radians(),
+        ),
+        background: Vec3::ZERO,
+        ambient: Vec3::ZERO,
+    };
+    TraceScene::build(&objects, tables, penumbra::accel::DEFAULT_LAMBDA)
+}
+
+/// A scene in both layouts, with its rays.
+struct Case {
+    name: &'static str,
+    soa: TraceScene<SoaStore>,
+    aos: TraceScene<AosStore>,
+    rays: RaySet,
+}
+
+fn cases() -> Vec<Case> {
+    let mut out = Vec::new();
+    let soa = many::<SoaStore>();
+    let rays = ray_set(&soa, W, H, MANY_LIGHT);
+    out.push(Case { name: "spheres_100k", soa, aos: many::<AosStore>(), rays });
+    for (name, file) in [("bunny", "bunny.obj"), ("dragon", "dragon.obj")] {
+        let Some(path) = common::shared_model(file) else {
+            eprintln!("layout: ../shared/models/{file} not found; skipping the {name}");
+            continue;
+        };
+        let mesh = common::mesh_asset(&path, penumbra::accel::MESH_LAMBDA);
+        let soa: TraceScene<SoaStore> = common::mesh_scene(mesh.clone(), penumbra::accel::DEFAULT_LAMBDA);
+        let aos: TraceScene<AosStore> = common::mesh_scene(mesh, penumbra::accel::DEFAULT_LAMBDA);
+        let rays = ray_set(&soa, W, H, common::MESH_LIGHT);
+        out.push(Case { name, soa, aos, rays });
+    }
+    out
+}
+
+fn groups(c: &mut Criterion, cases: &[Case]) {
+    let mut group = c.benchmark_group("layout_primary");
+    for case in cases {
+        group.throughput(Throughput::Elements(case.rays.primary.len() as u64));
+        group.bench_function(BenchmarkId::new("soa", case.name), |b| {
+            b.iter(|| trace_primary(&case.soa, &case.rays.primary))
+        });
+        group.bench_function(BenchmarkId::new("aos", case.name), |b| {
+            b.iter(|| trace_primary(&case.aos, &case.rays.primary))
+        });
+    }
+    group.finish();
+    let mut group = c.benchmark_group("layout_shadow");
+    for case in cases {
+        group.throughput(Throughput::Elements(case.rays.shadow.len() as u64));
+        group.bench_function(BenchmarkId::new("soa", case.name), |b| {
+            b.iter(|| trace_shadow(&case.soa, &case.rays.shadow))
+        });
+        group.bench_function(BenchmarkId::new("aos", case.name), |b| {
+            b.iter(|| trace_shadow(&case.aos, &case.rays.shadow))
+        });
+    }
+    group.finish();
+}
+
+fn table(cases: &[Case]) {
+    println!(
+        "\nlayout: SoA vs AoS, {W}x{H}, both cores, medians of 7 (Mrays/s; ratio = SoA speed / AoS speed)"
+    );
+    println!(
+        "{:<14} {:>10} {:>10} {:>7}   {:>10} {:>10} {:>7}",
+        "scene", "prim SoA", "prim AoS", "ratio", "shad SoA", "shad AoS", "ratio"
+    );
+    for case in cases {
+        let (p, s) = (&case.rays.primary, &case.rays.shadow);
+        // Interleave the variants so drift on a shared machine hits both alike.
+        let ps = median(7, || trace_primary(&case.soa, p));
+        let pa = median(7, || trace_primary(&case.aos, p));
+        let ss = median(7, || trace_shadow(&case.soa, s));
+        let sa = median(7, || trace_shadow(&case.aos, s));
+        println!(
+            "{:<14} {:>10.2} {:>10.2} {:>7.3}   {:>10.2} {:>10.2} {:>7.3}",
+            case.name,
+            mrays(p.len(), ps),
+            mrays(p.len(), pa),
+            pa.as_secs_f64() / ps.as_secs_f64(),
+            mrays(s.len(), ss),
+            mrays(s.len(), sa),
+            sa.as_secs_f64() / ss.as_secs_f64(),
+        );
+    }
+}
+
+fn main() {
+    let cases = cases();
+    harness::run(10, |c| groups(c, &cases), || table(&cases));
+}
