@@ -47,10 +47,10 @@ fn scene() -> SceneDesc {
     for i in 0..INSTANCES {
         let (x, z) = ((i % 10) as f32 * 3.0 - 13.5, (i / 10) as f32 * 3.0 - 13.5);
         let yaw: f32 = rng.random_range(0.0..360.0);
-        let _ = write!(
+        let _ = writeln!(
             objects,
             "(name: \"bunny_{i}\", shape: Mesh(file: {:?}), material: \"m\", \
-             transform: (translate: ({x}, 0, {z}), rotate_deg: (0, {yaw}, 0), scale: (15, 15, 15))),\n",
+             transform: (translate: ({x}, 0, {z}), rotate_deg: (0, {yaw}, 0), scale: (15, 15, 15))),",
             path.display().to_string()
         );
     }

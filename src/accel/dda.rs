@@ -27,7 +27,8 @@ pub struct CellSpan {
 /// a linear index moved by per-axis strides.
 #[derive(Debug, Clone)]
 pub struct GridWalk<'g> {
-    grid: &'g UniformGrid,
+    /// The grid's walls per axis.
+    walls: [&'g [f32]; 3],
     /// Cell coordinate per axis.
     cell: [i32; 3],
     /// −1, 0 or +1 per axis.
@@ -53,7 +54,7 @@ impl<'g> GridWalk<'g> {
     pub fn new(grid: &'g UniformGrid, ray: &Ray, t_min: f32, t_max: f32) -> Self {
         let inv_dir = ray.dir.recip();
         let mut walk = GridWalk {
-            grid,
+            walls: [&grid.walls[0], &grid.walls[1], &grid.walls[2]],
             cell: [0; 3],
             step: [0; 3],
             out: [0; 3],
@@ -125,7 +126,7 @@ impl Iterator for GridWalk<'_> {
             // Recompute the crossing from the wall itself (no accumulated drift): crossings
             // agree exactly with the cell boxes the grid was built with.
             let wall = if self.step[axis] > 0 { next as u32 + 1 } else { next as u32 };
-            self.t_next[axis] = (self.grid.plane(axis, wall) - self.origin[axis]) * self.inv_dir[axis];
+            self.t_next[axis] = (self.walls[axis][wall as usize] - self.origin[axis]) * self.inv_dir[axis];
         }
         Some(span)
     }
@@ -145,6 +146,7 @@ mod tests {
         g.dims = [4, 4, 4];
         g.cell_size = Vec3::ONE;
         g.inv_cell_size = Vec3::ONE;
+        g.update_walls();
         g
     }
 

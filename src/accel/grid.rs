@@ -20,6 +20,9 @@ pub struct UniformGrid {
     pub cell_start: Vec<u32>,
     /// Object ids of all cells, concatenated.
     pub prim_ids: Vec<u32>,
+    /// Wall coordinates per axis (`dims[axis] + 1` each; the last is exactly the bound): the
+    /// DDA reads crossings from here (see [`UniformGrid::plane`]).
+    pub walls: [Vec<f32>; 3],
 }
 
 impl UniformGrid {
@@ -32,6 +35,18 @@ impl UniformGrid {
             inv_cell_size: Vec3::ONE,
             cell_start: vec![0, 0],
             prim_ids: Vec::new(),
+            walls: [vec![0.0, 1.0], vec![0.0, 1.0], vec![0.0, 1.0]],
+        }
+    }
+
+    /// Recomputes [`UniformGrid::walls`] from `bounds`, `dims` and `cell_size` (call after
+    /// changing them): wall `i` is `min + i · size`, the last one exactly `max`.
+    pub fn update_walls(&mut self) {
+        for axis in 0..3 {
+            let (min, max) = (self.bounds.min.to_array()[axis], self.bounds.max.to_array()[axis]);
+            let size = self.cell_size.to_array()[axis];
+            let d = self.dims[axis];
+            self.walls[axis] = (0..=d).map(|i| if i == d { max } else { min + i as f32 * size }).collect();
         }
     }
 
@@ -65,12 +80,8 @@ impl UniformGrid {
     /// the grid's bound, whatever the rounding. The DDA steps through these same walls.
     #[inline]
     pub fn plane(&self, axis: usize, i: u32) -> f32 {
-        // Arrays, not `Vec3` indexing: this is on the DDA's hot path.
-        if i >= self.dims[axis] {
-            self.bounds.max.to_array()[axis]
-        } else {
-            self.bounds.min.to_array()[axis] + i as f32 * self.cell_size.to_array()[axis]
-        }
+        let walls = &self.walls[axis];
+        walls[(i as usize).min(walls.len() - 1)]
     }
 
     /// The range of cells (inclusive) whose closed boxes touch the closed box `b`, clamped to
@@ -111,7 +122,7 @@ impl UniformGrid {
 
     /// Bytes held by the grid's arrays.
     pub fn memory_bytes(&self) -> usize {
-        (self.cell_start.len() + self.prim_ids.len()) * std::mem::size_of::<u32>()
+        (self.cell_start.len() + self.prim_ids.len() + self.walls.iter().map(Vec::len).sum::<usize>()) * 4
     }
 
     /// Total number of stored references (an object counts once per overlapped cell).

@@ -14,7 +14,7 @@ pub const DEFAULT_LAMBDA: f32 = 2.0;
 
 /// Grid density λ of mesh assets' own grids (cells per triangle), chosen by
 /// `benches/scaling.rs` (`mesh_lambda`): see `docs/meshes.md` for the curve.
-pub const MESH_LAMBDA: f32 = 4.0;
+pub const MESH_LAMBDA: f32 = 2.0;
 
 /// Cap on cells per axis and in total, so a pathological scene cannot exhaust memory.
 const MAX_DIM: u32 = 1024;
@@ -61,7 +61,9 @@ impl GridBuilder {
             inv_cell_size: cell_size.recip(),
             cell_start: Vec::new(),
             prim_ids: Vec::new(),
+            walls: Default::default(),
         };
+        grid.update_walls();
 
         if bounds.len() < PARALLEL_MIN {
             return build_serial(grid, bounds, &overlaps);
