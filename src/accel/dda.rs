@@ -8,7 +8,7 @@
 //! pbrt's `DDAMajorantIterator`, the walk is an iterator, so callers decide when to stop.
 
 use super::grid::UniformGrid;
-use crate::math::Ray;
+use crate::math::{Ray, Vec3};
 
 /// One cell on a ray's path, with the ray's parametric range `[t_enter, t_exit]` inside it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -27,8 +27,12 @@ pub struct CellSpan {
 /// a linear index moved by per-axis strides.
 #[derive(Debug, Clone)]
 pub struct GridWalk<'g> {
+    grid: &'g UniformGrid,
     /// The grid's walls per axis.
     walls: [&'g [f32]; 3],
+    /// The grid's skip distances, or empty for a walk that visits every cell.
+    skip: &'g [u8],
+    dir: [f32; 3],
     /// Cell coordinate per axis.
     cell: [i32; 3],
     /// −1, 0 or +1 per axis.
@@ -54,7 +58,10 @@ impl<'g> GridWalk<'g> {
     pub fn new(grid: &'g UniformGrid, ray: &Ray, t_min: f32, t_max: f32) -> Self {
         let inv_dir = ray.dir.recip();
         let mut walk = GridWalk {
+            grid,
             walls: [&grid.walls[0], &grid.walls[1], &grid.walls[2]],
+            skip: &[],
+            dir: ray.dir.to_array(),
             cell: [0; 3],
             step: [0; 3],
             out: [0; 3],
@@ -92,7 +99,68 @@ impl<'g> GridWalk<'g> {
         walk.done = false;
         walk
     }
+
+    /// [`GridWalk::new`], jumping across runs of empty cells with the grid's skip distances:
+    /// only spans of cells that may hold objects (and some empty ones) are returned, in order.
+    /// What a caller finds is the same as with [`GridWalk::new`]; it just visits fewer cells.
+    #[inline]
+    pub fn skipping(grid: &'g UniformGrid, ray: &Ray, t_min: f32, t_max: f32) -> Self {
+        let mut walk = Self::new(grid, ray, t_min, t_max);
+        walk.skip = &grid.skip;
+        walk
+    }
+
+    /// Moves the walk past the cube of cells around the current one that its skip distance `d`
+    /// says are empty. Returns false when the walk ends inside it.
+    #[cold]
+    fn jump(&mut self, d: u8) -> bool {
+        let r = i32::from(d) - 1;
+        let dims = self.grid.dims.map(|n| n as i32);
+        let (mut t_jump, mut exit) = (f32::INFINITY, 0);
+        for axis in 0..3 {
+            let wall = match self.step[axis] {
+                1 => (self.cell[axis] + r + 1).min(dims[axis]),
+                -1 => (self.cell[axis] - r).max(0),
+                _ => continue,
+            };
+            let t = (self.walls[axis][wall as usize] - self.origin[axis]) * self.inv_dir[axis];
+            if t < t_jump {
+                (t_jump, exit) = (t, axis);
+            }
+        }
+        let beyond = self.cell[exit] + self.step[exit] * (r + 1);
+        if t_jump >= self.t_end || beyond < 0 || beyond >= dims[exit] {
+            return false;
+        }
+        let t_jump = t_jump.max(self.t_enter);
+        let at = Vec3::from_array(self.origin) + Vec3::from_array(self.dir) * t_jump;
+        let found = self.grid.cell_coords(at);
+        let mut index = 0;
+        for axis in 0..3 {
+            // Never step back, and never sideways on an axis the ray does not move along.
+            let c = match self.step[axis] {
+                _ if axis == exit => beyond,
+                1 => (found[axis] as i32).max(self.cell[axis]),
+                -1 => (found[axis] as i32).min(self.cell[axis]),
+                _ => self.cell[axis],
+            };
+            self.cell[axis] = c;
+            index += c * self.stride[axis];
+            let wall = match self.step[axis] {
+                1 => c + 1,
+                -1 => c,
+                _ => continue,
+            };
+            self.t_next[axis] = (self.walls[axis][wall as usize] - self.origin[axis]) * self.inv_dir[axis];
+        }
+        self.index = index;
+        self.t_enter = t_jump;
+        true
+    }
 }
+
+/// Smallest skip distance worth a jump: a jump costs about as much as three DDA steps.
+const MIN_JUMP: u8 = 3;
 
 impl Iterator for GridWalk<'_> {
     type Item = CellSpan;
@@ -101,6 +169,12 @@ impl Iterator for GridWalk<'_> {
     fn next(&mut self) -> Option<CellSpan> {
         if self.done {
             return None;
+        }
+        if let Some(&d) = self.skip.get(self.index as usize) {
+            if d >= MIN_JUMP && !self.jump(d) {
+                self.done = true;
+                return None;
+            }
         }
         let cell = self.index as u32;
         // Axis of the nearest wall; ties go to the lowest axis (the next span is then empty).
@@ -136,7 +210,7 @@ impl Iterator for GridWalk<'_> {
 mod tests {
     use super::*;
     use crate::accel::GridBuilder;
-    use crate::math::{Aabb, Vec3};
+    use crate::math::Aabb;
 
     /// A 4×4×4 grid over [0, 4]³ (exactly: λ·N = 64 cells over 64 unit cubes... built from bounds).
     fn unit_grid() -> UniformGrid {
@@ -213,5 +287,78 @@ mod tests {
         let g = unit_grid();
         let ray = Ray::new(Vec3::new(-1.0, 5.0, 0.5), Vec3::X);
         assert_eq!(GridWalk::new(&g, &ray, 0.0, f32::INFINITY).count(), 0);
+    }
+
+    /// A 24³ grid over scattered small boxes: mostly empty cells with skip distances up to ~10.
+    fn sparse_grid() -> UniformGrid {
+        let boxes: Vec<Aabb> = (0..40u32)
+            .map(|i| {
+                let c = Vec3::new((i * 37 % 97) as f32, (i * 61 % 89) as f32, (i * 17 % 83) as f32) * 0.1;
+                Aabb::new(c, c + Vec3::splat(0.05))
+            })
+            .collect();
+        GridBuilder::new(300.0).build(&boxes, |_, _| true)
+    }
+
+    #[test]
+    fn skip_distances_are_the_chebyshev_distance_to_the_nearest_non_empty_cell() {
+        let g = sparse_grid();
+        let [dx, dy, dz] = g.dims;
+        let full: Vec<[i64; 3]> = (0..g.cell_count() as u32)
+            .filter(|&c| !g.cell_prims(c).is_empty())
+            .map(|c| [(c % dx) as i64, (c / dx % dy) as i64, (c / (dx * dy)) as i64])
+            .collect();
+        assert!(g.skip.iter().any(|&d| d >= 4), "the fixture should have wide empty regions");
+        for z in 0..dz {
+            for y in 0..dy {
+                for x in 0..dx {
+                    let want = full
+                        .iter()
+                        .map(|n| {
+                            (n[0] - x as i64).abs().max((n[1] - y as i64).abs()).max((n[2] - z as i64).abs())
+                        })
+                        .min()
+                        .unwrap_or(255)
+                        .min(255) as u8;
+                    assert_eq!(g.skip[g.cell_index(x, y, z) as usize], want, "cell {x},{y},{z}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_skipping_walk_visits_every_non_empty_cell_of_the_full_walk_in_order() {
+        let g = sparse_grid();
+        let mut state = 12345u32;
+        let mut rand = || {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (state >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let (mut jumped, mut total) = (0, 0);
+        for _ in 0..3000 {
+            let origin = Vec3::new(rand() * 14.0 - 2.0, rand() * 14.0 - 2.0, rand() * 14.0 - 2.0);
+            let mut dir = Vec3::new(rand() - 0.5, rand() - 0.5, rand() - 0.5);
+            // Some rays axis-parallel or with zero components.
+            if rand() < 0.2 {
+                dir.y = 0.0;
+            }
+            if rand() < 0.1 {
+                dir.z = -0.0;
+            }
+            let Some(dir) = dir.try_normalize() else { continue };
+            let ray = Ray::new(origin, dir);
+            let full: Vec<CellSpan> = GridWalk::new(&g, &ray, 0.0, f32::INFINITY)
+                .filter(|s| !g.cell_prims(s.cell).is_empty())
+                .collect();
+            let skipping: Vec<CellSpan> = GridWalk::skipping(&g, &ray, 0.0, f32::INFINITY).collect();
+            let kept: Vec<u32> =
+                skipping.iter().map(|s| s.cell).filter(|&c| !g.cell_prims(c).is_empty()).collect();
+            assert_eq!(kept, full.iter().map(|s| s.cell).collect::<Vec<_>>(), "ray {ray:?}");
+            assert!(skipping.windows(2).all(|w| w[0].t_exit <= w[1].t_enter), "time runs forward");
+            let n = GridWalk::new(&g, &ray, 0.0, f32::INFINITY).count();
+            total += n;
+            jumped += n - skipping.len();
+        }
+        assert!(jumped * 2 > total, "skipping should avoid most cells here: {jumped} of {total}");
     }
 }

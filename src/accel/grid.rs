@@ -23,6 +23,10 @@ pub struct UniformGrid {
     /// Wall coordinates per axis (`dims[axis] + 1` each; the last is exactly the bound): the
     /// DDA reads crossings from here (see [`UniformGrid::plane`]).
     pub walls: [Vec<f32>; 3],
+    /// Per cell, the Chebyshev distance in cells to the nearest non-empty cell (0 for a
+    /// non-empty cell, capped at 255; empty when not computed): every cell closer than that is
+    /// empty, so a walk may jump across them ("proximity clouds", Cohen and Sheffer 1994).
+    pub skip: Vec<u8>,
 }
 
 impl UniformGrid {
@@ -36,7 +40,48 @@ impl UniformGrid {
             cell_start: vec![0, 0],
             prim_ids: Vec::new(),
             walls: [vec![0.0, 1.0], vec![0.0, 1.0], vec![0.0, 1.0]],
+            skip: Vec::new(),
         }
+    }
+
+    /// Computes [`UniformGrid::skip`] from the rows: an exact Chebyshev distance transform by
+    /// two raster passes over the 26-neighbourhood (forward, then backward).
+    pub fn update_skip(&mut self) {
+        let [dx, dy, dz] = self.dims.map(|d| d as i64);
+        let mut d: Vec<u8> = (0..self.cell_count())
+            .map(|c| if self.cell_start[c] == self.cell_start[c + 1] { 255 } else { 0 })
+            .collect();
+        let at = |x: i64, y: i64, z: i64| (x + dx * (y + dy * z)) as usize;
+        // The 13 neighbours that come before a cell in raster order.
+        let mut before = Vec::with_capacity(13);
+        for oz in -1i64..=1 {
+            for oy in -1i64..=1 {
+                for ox in -1i64..=1 {
+                    if (oz, oy, ox) < (0, 0, 0) {
+                        before.push((ox, oy, oz));
+                    }
+                }
+            }
+        }
+        let mut pass = |forward: bool| {
+            let sign = if forward { 1 } else { -1 };
+            for k in 0..dz * dy * dx {
+                let k = if forward { k } else { dz * dy * dx - 1 - k };
+                let (x, y, z) = (k % dx, k / dx % dy, k / (dx * dy));
+                let here = at(x, y, z);
+                let mut best = d[here];
+                for &(ox, oy, oz) in &before {
+                    let (nx, ny, nz) = (x + sign * ox, y + sign * oy, z + sign * oz);
+                    if nx >= 0 && ny >= 0 && nz >= 0 && nx < dx && ny < dy && nz < dz {
+                        best = best.min(d[at(nx, ny, nz)].saturating_add(1));
+                    }
+                }
+                d[here] = best;
+            }
+        };
+        pass(true);
+        pass(false);
+        self.skip = d;
     }
 
     /// Recomputes [`UniformGrid::walls`] from `bounds`, `dims` and `cell_size` (call after
@@ -123,6 +168,7 @@ impl UniformGrid {
     /// Bytes held by the grid's arrays.
     pub fn memory_bytes(&self) -> usize {
         (self.cell_start.len() + self.prim_ids.len() + self.walls.iter().map(Vec::len).sum::<usize>()) * 4
+            + self.skip.len()
     }
 
     /// Total number of stored references (an object counts once per overlapped cell).

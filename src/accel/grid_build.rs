@@ -62,11 +62,14 @@ impl GridBuilder {
             cell_start: Vec::new(),
             prim_ids: Vec::new(),
             walls: Default::default(),
+            skip: Vec::new(),
         };
         grid.update_walls();
 
         if bounds.len() < PARALLEL_MIN {
-            return build_serial(grid, bounds, &overlaps);
+            let mut grid = build_serial(grid, bounds, &overlaps);
+            grid.update_skip();
+            return grid;
         }
         // Step 1: each object's overlapped cells, in parallel (the exact tests are the cost).
         let cells_of: Vec<Vec<u32>> = bounds
@@ -113,6 +116,7 @@ impl GridBuilder {
 
         grid.cell_start = cell_start;
         grid.prim_ids = prim_ids;
+        grid.update_skip();
         grid
     }
 }
@@ -290,8 +294,15 @@ mod tests {
             .collect();
         let overlaps = |id: u32, cell: &Aabb| (id + cell.min.x as u32) % 7 != 0;
         let parallel = GridBuilder::new(2.0).build(&bounds, overlaps);
-        let empty = UniformGrid { cell_start: Vec::new(), prim_ids: Vec::new(), ..parallel.clone() };
-        assert_eq!(build_serial(empty, &bounds, &overlaps), parallel);
+        let empty = UniformGrid {
+            cell_start: Vec::new(),
+            prim_ids: Vec::new(),
+            skip: Vec::new(),
+            ..parallel.clone()
+        };
+        let mut serial = build_serial(empty, &bounds, &overlaps);
+        serial.update_skip();
+        assert_eq!(serial, parallel);
     }
 
     #[test]

@@ -136,7 +136,7 @@ pub fn intersect<L: TriangleLayout>(
     let wray = WatertightRay::new(ray);
     let mut best: Option<(u32, TriangleHit)> = None;
     let mut t_best = t_max;
-    for span in GridWalk::new(grid, ray, t_min, t_max) {
+    for span in GridWalk::skipping(grid, ray, t_min, t_max) {
         if span.t_enter > t_best {
             break;
         }
@@ -167,7 +167,7 @@ pub fn occluded<L: TriangleLayout>(
 ) -> bool {
     let grid = &mesh.asset.grid;
     let wray = WatertightRay::new(ray);
-    for span in GridWalk::new(grid, ray, t_min, t_max) {
+    for span in GridWalk::skipping(grid, ray, t_min, t_max) {
         cost.cells += 1;
         for &i in grid.cell_prims(span.cell) {
             cost.tests += 1;

@@ -42,7 +42,7 @@ pub fn closest_hit_costed<S: PrimitiveStore>(
         cost.tests += 1;
         nearest.offer(store.intersect_unbounded(i, ray, t_min, nearest.t));
     }
-    for span in GridWalk::new(&scene.grid, ray, t_min, nearest.t) {
+    for span in GridWalk::skipping(&scene.grid, ray, t_min, nearest.t) {
         if span.t_enter > nearest.t {
             break;
         }
@@ -131,7 +131,7 @@ pub fn transmittance_costed<S: PrimitiveStore>(
             }
         }
     }
-    let walk = GridWalk::new(&scene.grid, ray, 0.0, t_max);
+    let walk = GridWalk::skipping(&scene.grid, ray, 0.0, t_max);
     if opaque_only {
         // Any crossing anywhere in (0, t_max) blocks the light: no bookkeeping needed.
         for span in walk {
