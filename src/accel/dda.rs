@@ -113,6 +113,7 @@ impl<'g> GridWalk<'g> {
     /// Moves the walk past the cube of cells around the current one that its skip distance `d`
     /// says are empty. Returns false when the walk ends inside it.
     #[cold]
+    #[allow(clippy::needless_range_loop)] // per-axis state lives in several arrays
     fn jump(&mut self, d: u8) -> bool {
         let r = i32::from(d) - 1;
         let dims = self.grid.dims.map(|n| n as i32);
