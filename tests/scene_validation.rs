@@ -93,7 +93,7 @@ fn the_base_scene_and_the_shipped_scenes_are_valid() {
     let every = load_scene(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/every_type.ron"))
         .expect("valid");
     let kinds: Vec<&str> = every.objects.iter().map(|o| o.shape.kind()).collect();
-    for kind in ["sphere", "plane", "triangle", "polygon", "box"] {
+    for kind in ["sphere", "plane", "triangle", "polygon", "box", "mesh"] {
         assert!(kinds.contains(&kind), "every_type.ron lacks a {kind}");
     }
     use penumbra::scene::LightDesc;
