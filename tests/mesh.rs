@@ -296,3 +296,41 @@ fn objects_naming_the_same_mesh_share_one_asset() {
     assert_eq!(desc.meshes.len(), 2);
     assert_eq!(desc.meshes.assets()[0].data.triangle_count(), 3851);
 }
+
+#[test]
+fn the_cli_renders_both_layouts_alike_and_reports_the_mesh_level() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |layout: &str| {
+        let (png, json) =
+            (dir.path().join(format!("{layout}.png")), dir.path().join(format!("{layout}.json")));
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"))
+            .args(["render", "scenes/bunny.ron", "--width", "64", "--layout", layout, "-o"])
+            .arg(&png)
+            .arg("--stats")
+            .arg(&json)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let stats: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+        (image::open(&png).unwrap().to_rgb8().into_raw(), stats)
+    };
+    let (soa, stats) = run("soa");
+    let (aos, aos_stats) = run("aos");
+    assert!(soa == aos, "the layouts render different pixels");
+    let meshes = &stats["grid"]["meshes"];
+    assert_eq!(meshes["assets"], 2);
+    assert_eq!(meshes["triangles"], 2 * 3851);
+    assert!(meshes["grid_bytes_per_triangle"].as_f64().unwrap() > 4.0);
+    let t = &stats["traversal"];
+    assert_eq!(
+        t["rays"],
+        stats["rays"]["camera"].as_u64().unwrap()
+            + stats["rays"]["shadow"].as_u64().unwrap()
+            + stats["rays"]["reflection"].as_u64().unwrap()
+    );
+    assert!(t["cells_p99"].as_f64().unwrap() >= t["cells_mean"].as_f64().unwrap());
+    assert!(t["tests_p99"].as_f64().unwrap() >= t["tests_mean"].as_f64().unwrap());
+    assert!(stats["times"]["mesh_grid_build"].as_f64().unwrap() > 0.0);
+    // The layouts differ in bytes, not in work.
+    assert_eq!(t["tests_mean"], aos_stats["traversal"]["tests_mean"]);
+}
