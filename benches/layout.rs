@@ -87,28 +87,26 @@ fn cases() -> Vec<Case> {
 }
 
 fn groups(c: &mut Criterion, cases: &[Case]) {
-    let mut group = c.benchmark_group("layout_primary");
-    for case in cases {
-        group.throughput(Throughput::Elements(case.rays.primary.len() as u64));
-        group.bench_function(BenchmarkId::new("soa", case.name), |b| {
-            b.iter(|| trace_primary(&case.soa, &case.rays.primary))
-        });
-        group.bench_function(BenchmarkId::new("aos", case.name), |b| {
-            b.iter(|| trace_primary(&case.aos, &case.rays.primary))
-        });
+    type Kernel<S, R> = fn(&TraceScene<S>, &[R]) -> usize;
+    fn group<R>(
+        c: &mut Criterion,
+        name: &str,
+        cases: &[Case],
+        rays: impl Fn(&Case) -> &[R],
+        soa: Kernel<SoaStore, R>,
+        aos: Kernel<AosStore, R>,
+    ) {
+        let mut group = c.benchmark_group(name);
+        for case in cases {
+            let r = rays(case);
+            group.throughput(Throughput::Elements(r.len() as u64));
+            group.bench_function(BenchmarkId::new("soa", case.name), |b| b.iter(|| soa(&case.soa, r)));
+            group.bench_function(BenchmarkId::new("aos", case.name), |b| b.iter(|| aos(&case.aos, r)));
+        }
+        group.finish();
     }
-    group.finish();
-    let mut group = c.benchmark_group("layout_shadow");
-    for case in cases {
-        group.throughput(Throughput::Elements(case.rays.shadow.len() as u64));
-        group.bench_function(BenchmarkId::new("soa", case.name), |b| {
-            b.iter(|| trace_shadow(&case.soa, &case.rays.shadow))
-        });
-        group.bench_function(BenchmarkId::new("aos", case.name), |b| {
-            b.iter(|| trace_shadow(&case.aos, &case.rays.shadow))
-        });
-    }
-    group.finish();
+    group(c, "layout_primary", cases, |k| &k.rays.primary, trace_primary, trace_primary);
+    group(c, "layout_shadow", cases, |k| &k.rays.shadow, trace_shadow, trace_shadow);
 }
 
 fn table(cases: &[Case]) {

@@ -38,14 +38,7 @@ fn main() -> anyhow::Result<()> {
     for path in &files {
         let (read, bytes) = best_of_five(|| std::fs::read(path));
         let text = String::from_utf8(bytes?)?;
-        #[allow(clippy::needless_update, reason = "tobj's `merging` and `reordering` features add fields")]
-        let options = tobj::LoadOptions {
-            single_index: true,
-            triangulate: true,
-            ignore_points: true,
-            ignore_lines: true,
-            ..Default::default()
-        };
+        let options = penumbra::scene::obj::load_options();
         let (tobj_only, models) = best_of_five(|| {
             tobj::load_obj_buf(&mut text.as_bytes(), &options, |_| Err(tobj::LoadError::OpenFileFailed))
         });

@@ -94,14 +94,7 @@ pub fn parse_obj(text: &str, path: &Path, smooth: bool) -> Result<MeshData, ObjE
     let source = if scan.needs_cleaning { Cow::Owned(clean(text)) } else { Cow::Borrowed(text) };
 
     // Parse: one tobj model per object, group or material run.
-    #[allow(clippy::needless_update, reason = "tobj's `merging` and `reordering` features add fields")]
-    let options = tobj::LoadOptions {
-        single_index: true,
-        triangulate: true,
-        ignore_points: true,
-        ignore_lines: true,
-        ..Default::default()
-    };
+    let options = load_options();
     let (models, _materials) =
         tobj::load_obj_buf(&mut source.as_bytes(), &options, |_| Err(tobj::LoadError::OpenFileFailed))
             // The scan accepts only what tobj reads without error, so this is not expected.
@@ -335,6 +328,19 @@ fn clean(text: &str) -> String {
         out.push('\n');
     }
     out
+}
+
+/// The `tobj` options the loader uses: one index per vertex (file normals line up with
+/// positions), polygons triangulated, points and lines ignored.
+pub fn load_options() -> tobj::LoadOptions {
+    #[allow(clippy::needless_update, reason = "tobj's `merging` and `reordering` features add fields")]
+    tobj::LoadOptions {
+        single_index: true,
+        triangulate: true,
+        ignore_points: true,
+        ignore_lines: true,
+        ..Default::default()
+    }
 }
 
 #[cfg(test)]
