@@ -300,12 +300,7 @@ pub fn radiance<S: PrimitiveStore>(
     // Shade the side the ray arrives on: `n` is the geometric normal on that side (it decides
     // offsets and sides), `ns` the shading normal there, unless it would face away from the
     // viewer (possible at grazing angles on a smooth mesh), where the geometric one takes over.
-    let entering = sp.normal.dot(ray.dir) < 0.0;
-    let n = if entering { sp.normal } else { -sp.normal };
-    let ns = match if entering { sp.shading } else { -sp.shading } {
-        s if s.dot(ray.dir) < 0.0 => s,
-        _ => n,
-    };
+    let (entering, n, ns) = facing_normals(&sp, ray.dir);
     let eps = offset_distance(sp.point, scene.offset_floor);
     // Rays leave the front of a smooth mesh from its lifted point (no shadow terminator).
     let origin = if entering { sp.point + sp.lift } else { sp.point };
@@ -361,6 +356,21 @@ pub fn radiance<S: PrimitiveStore>(
             };
     }
     colour
+}
+
+/// The normals a hit is shaded with, turned towards the incoming direction `dir`: whether the
+/// ray arrives on the front (geometric) side, the geometric normal on the arrival side, and the
+/// shading normal on that side (the geometric one where the interpolated normal would face
+/// away from the viewer, which can happen at grazing angles on a smooth mesh).
+#[inline]
+pub fn facing_normals(sp: &crate::store::SurfacePoint, dir: Vec3) -> (bool, Vec3, Vec3) {
+    let entering = sp.normal.dot(dir) < 0.0;
+    let n = if entering { sp.normal } else { -sp.normal };
+    let ns = match if entering { sp.shading } else { -sp.shading } {
+        s if s.dot(dir) < 0.0 => s,
+        _ => n,
+    };
+    (entering, n, ns)
 }
 
 /// Which kind of ray a [`scatter`] traces.

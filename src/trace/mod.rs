@@ -16,7 +16,7 @@ pub mod stats;
 
 pub use effects::Effects;
 pub use integrator::{
-    closest_hit, closest_hit_brute, closest_hit_costed, transmittance, transmittance_costed,
+    closest_hit, closest_hit_brute, closest_hit_costed, facing_normals, transmittance, transmittance_costed,
 };
 pub use light::Light;
 pub use material::Material;

@@ -242,6 +242,8 @@ fn assemble(
         let tw = TILE.min(w - x0);
         for (k, &c) in pixels.iter().enumerate() {
             let (x, y) = (x0 + k as u32 % tw, y0 + k as u32 / tw);
+            // Every path (fixed samples or adaptive) reaches the film here.
+            debug_assert!(c.is_finite(), "non-finite radiance at pixel ({x}, {y})");
             film.set(x, y, c);
             if let (Some(cost), Some(&n)) = (cost.as_mut(), costs.get(k)) {
                 cost[(y * w + x) as usize] += n;

@@ -232,3 +232,87 @@ pub fn mesh_scene<S: penumbra::store::PrimitiveStore>(
 /// The point light of [`mesh_scene`].
 #[allow(dead_code)]
 pub const MESH_LIGHT: Vec3 = Vec3::new(-3.0, 6.0, -5.0);
+
+/// Proptest strategies shared by the property tests: scenes of spheres, boxes, triangles and
+/// mesh instances, and rays.
+#[allow(dead_code)]
+pub mod strategies {
+    use std::sync::Arc;
+
+    use proptest::prelude::*;
+
+    use penumbra::geom::mesh::icosphere;
+    use penumbra::geom::{MeshId, Shape};
+    use penumbra::math::{Affine3A, Quat, Ray, Vec3};
+    use penumbra::store::{MaterialId, MeshAsset, PlacedObject};
+    use penumbra::trace::TraceScene;
+
+    /// A point in `[-r, r]³`.
+    pub fn point(r: f32) -> impl Strategy<Value = Vec3> {
+        (-r..r, -r..r, -r..r).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+    }
+
+    /// A unit vector (zero components and `-0.0` included now and then).
+    pub fn direction() -> impl Strategy<Value = Vec3> {
+        let component = prop_oneof![8 => -1.0f32..1.0, 1 => Just(0.0f32), 1 => Just(-0.0f32)];
+        (component.clone(), component.clone(), component)
+            .prop_filter_map("non-zero", |(x, y, z)| Vec3::new(x, y, z).try_normalize())
+    }
+
+    /// A ray starting in `[-r, r]³`.
+    pub fn ray(r: f32) -> impl Strategy<Value = Ray> {
+        (point(r), direction()).prop_map(|(o, d)| Ray::new(o, d))
+    }
+
+    /// An object-to-world map: translation in `[-r, r]³`, any rotation, scale 0.3–2 per axis.
+    pub fn placement(r: f32) -> impl Strategy<Value = Affine3A> {
+        (point(r), direction(), 0.0f32..6.3, (0.3f32..2.0, 0.3f32..2.0, 0.3f32..2.0)).prop_map(
+            |(t, axis, angle, (sx, sy, sz))| {
+                Affine3A::from_scale_rotation_translation(
+                    Vec3::new(sx, sy, sz),
+                    Quat::from_axis_angle(axis, angle),
+                    t,
+                )
+            },
+        )
+    }
+
+    /// The shared mesh of the random scenes: a closed icosphere of 320 triangles.
+    pub fn sphere_mesh() -> Arc<MeshAsset> {
+        Arc::new(MeshAsset::new("icosphere", icosphere(Vec3::ZERO, 1.0, 2), 2.0))
+    }
+
+    /// One random object: sphere, box, triangle or mesh instance (`MeshId(0)`).
+    pub fn object(r: f32, mesh_bounds: penumbra::math::Aabb) -> impl Strategy<Value = PlacedObject> {
+        let shape = prop_oneof![
+            (point(r), 0.1f32..1.5).prop_map(|(centre, radius)| Shape::Sphere { centre, radius }),
+            (point(1.0), 0.1f32..1.5).prop_map(|(min, e)| Shape::Cuboid { min, max: min + Vec3::splat(e) }),
+            (point(r), point(1.5), point(1.5)).prop_filter_map("non-degenerate", |(a, b, c)| {
+                let (b, c) = (a + b, a + c);
+                ((b - a).cross(c - a).length() > 1e-3).then_some(Shape::Triangle { vertices: [a, b, c] })
+            }),
+            Just(Shape::Mesh { mesh: MeshId(0), bounds: mesh_bounds }),
+        ];
+        (shape, placement(r)).prop_map(|(shape, to_world)| {
+            // Spheres need a uniform scale: place them by translation only.
+            let to_world = match shape {
+                Shape::Sphere { .. } | Shape::Triangle { .. } => {
+                    Affine3A::from_translation(to_world.translation.into())
+                }
+                _ => to_world,
+            };
+            PlacedObject { geometry: shape.place(&to_world), material: MaterialId(0) }
+        })
+    }
+
+    /// A random scene of 1–40 objects in `[-8, 8]³` with a grid of density 0.5–8.
+    pub fn scene() -> impl Strategy<Value = TraceScene> {
+        let mesh = sphere_mesh();
+        let bounds = mesh.data.bounds;
+        (proptest::collection::vec(object(8.0, bounds), 1..40), 0.5f32..8.0).prop_map(
+            move |(objects, lambda)| {
+                TraceScene::build_with_meshes(&objects, &[mesh.clone()], super::simple_tables(), lambda)
+            },
+        )
+    }
+}
