@@ -311,7 +311,12 @@ pub mod strategies {
         let bounds = mesh.data.bounds;
         (proptest::collection::vec(object(8.0, bounds), 1..40), 0.5f32..8.0).prop_map(
             move |(objects, lambda)| {
-                TraceScene::build_with_meshes(&objects, &[mesh.clone()], super::simple_tables(), lambda)
+                TraceScene::build_with_meshes(
+                    &objects,
+                    std::slice::from_ref(&mesh),
+                    super::simple_tables(),
+                    lambda,
+                )
             },
         )
     }
