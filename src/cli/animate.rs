@@ -19,7 +19,7 @@ use penumbra::script::{Animation, FrameRange, Limits, Script};
 use penumbra::trace::render_observed;
 
 use super::render::{say, FrameArgs};
-use super::{interrupt, meta};
+use super::{bad_input, interrupt, meta};
 
 /// Arguments of `penumbra animate`.
 #[derive(Args, Debug)]
@@ -100,11 +100,14 @@ pub fn run(args: &AnimateArgs, argv: &[String]) -> anyhow::Result<()> {
     let shard = match args.shard {
         Some(shard) => shard,
         None => Shard::from_env(|k| std::env::var(k).ok(), args.shard_count)
-            .map_err(|e| anyhow::anyhow!("cannot tell this task's shard: {e}"))?
+            .map_err(|e| bad_input(format!("cannot tell this task's shard: {e}")))?
             .unwrap_or(Shard::ALL),
     };
     if args.video.is_some() && shard.count > 1 {
-        bail!("--video needs every frame; encode after all {} shards have finished", shard.count);
+        return Err(bad_input(format!(
+            "--video needs every frame; encode after all {} shards have finished",
+            shard.count
+        )));
     }
     let ffmpeg = match &args.video {
         Some(video) => Some(find_ffmpeg(video, format)?),
@@ -267,10 +270,10 @@ impl Bars {
 /// The ffmpeg executable on PATH, checked before any frame is rendered.
 fn find_ffmpeg(video: &Path, format: OutputFormat) -> anyhow::Result<PathBuf> {
     if !matches!(format, OutputFormat::Png8 | OutputFormat::Png16) {
-        bail!(
+        return Err(bad_input(format!(
             "--video {}: encoding needs PNG frames; drop --format or choose png8 or png16",
             video.display()
-        );
+        )));
     }
     let path = std::env::var_os("PATH").unwrap_or_default();
     let found = std::env::split_paths(&path).map(|dir| dir.join("ffmpeg")).find(|p| p.is_file());

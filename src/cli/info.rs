@@ -2,14 +2,14 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{bail, Context};
+use anyhow::Context;
 use clap::{Args, Parser};
 
 use penumbra::film::{read_metadata, Metadata};
 use penumbra::scene::{DEFAULT_SCENE_ORIGIN, DEFAULT_SCENE_SOURCE};
 
 use super::meta::{self, sha256_hex};
-use super::{animate, render};
+use super::{animate, bad_input, render};
 
 /// Arguments of `penumbra info`.
 #[derive(Args, Debug)]
@@ -26,7 +26,10 @@ pub struct InfoArgs {
 pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
     let metadata = read_metadata(&args.image)?;
     if metadata.get(meta::VERSION).is_none() {
-        bail!("{}: no Penumbra metadata (not written by `penumbra render`?)", args.image.display());
+        return Err(bad_input(format!(
+            "{}: no Penumbra metadata (not written by `penumbra render`?)",
+            args.image.display()
+        )));
     }
     let width = metadata.entries.iter().map(|(k, _)| k.len()).max().unwrap_or(0);
     for (key, value) in &metadata.entries {
@@ -35,7 +38,9 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
     let Some(out) = &args.rerender else { return Ok(()) };
 
     let field = |key: &str| {
-        metadata.get(key).with_context(|| format!("{}: metadata lacks `{key}`", args.image.display()))
+        metadata
+            .get(key)
+            .ok_or_else(|| bad_input(format!("{}: metadata lacks `{key}`", args.image.display())))
     };
     let scene = field(meta::SCENE)?;
     let source = if scene == DEFAULT_SCENE_ORIGIN {
@@ -47,13 +52,13 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
     let recorded = field(meta::SCENE_HASH)?;
     let current = sha256_hex(&source);
     if current != recorded {
-        bail!(
+        return Err(bad_input(format!(
             "{scene}: the scene changed since {} was made (sha256 {current}, recorded {recorded})",
             args.image.display()
-        );
+        )));
     }
-    let replay: Vec<String> = serde_json::from_str(field(meta::ARGS)?).with_context(|| {
-        format!("{}: `{}` is not a JSON list of strings", args.image.display(), meta::ARGS)
+    let replay: Vec<String> = serde_json::from_str(field(meta::ARGS)?).map_err(|e| {
+        bad_input(format!("{}: `{}` is not a JSON list of strings: {e}", args.image.display(), meta::ARGS))
     })?;
     if replay.first().is_some_and(|a| a == "animate") {
         return rerender_frame(&args.image, &metadata, &replay, out);
@@ -63,27 +68,29 @@ pub fn run(args: &InfoArgs) -> anyhow::Result<()> {
         .map(String::from)
         .chain(replay.iter().cloned())
         .chain(["-o".into(), out.display().to_string()]);
-    let cli = super::Cli::try_parse_from(argv).context("the recorded arguments no longer parse")?;
+    let cli = super::Cli::try_parse_from(argv)
+        .map_err(|e| bad_input(format!("the recorded arguments no longer parse: {e}")))?;
     match cli.command {
         Some(super::Command::Render(render_args)) => render::run(&render_args, &replay),
-        _ => bail!("the recorded arguments do not describe a render"),
+        _ => Err(bad_input("the recorded arguments do not describe a render")),
     }
 }
 
 /// Makes a frame of an animation again: checks the script is unchanged, runs the recorded
 /// `animate` arguments (one frame) into a scratch folder beside `out` and moves the frame there.
 fn rerender_frame(image: &Path, metadata: &Metadata, replay: &[String], out: &Path) -> anyhow::Result<()> {
-    let field =
-        |key: &str| metadata.get(key).with_context(|| format!("{}: metadata lacks `{key}`", image.display()));
+    let field = |key: &str| {
+        metadata.get(key).ok_or_else(|| bad_input(format!("{}: metadata lacks `{key}`", image.display())))
+    };
     let script = field(meta::SCRIPT)?;
     let source = std::fs::read(script)
         .with_context(|| format!("{script}: cannot read the script the frame was made with"))?;
     let (recorded, current) = (field(meta::SCRIPT_HASH)?, sha256_hex(&source));
     if current != recorded {
-        bail!(
+        return Err(bad_input(format!(
             "{script}: the script changed since {} was made (sha256 {current}, recorded {recorded})",
             image.display()
-        );
+        )));
     }
     let parent = out.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     let scratch = tempfile::Builder::new()
@@ -96,9 +103,10 @@ fn rerender_frame(image: &Path, metadata: &Metadata, replay: &[String], out: &Pa
         .chain(replay.iter().cloned())
         .chain(["--quiet".into(), "-o".into(), scratch.path().display().to_string()])
         .collect();
-    let cli = super::Cli::try_parse_from(&argv).context("the recorded arguments no longer parse")?;
+    let cli = super::Cli::try_parse_from(&argv)
+        .map_err(|e| bad_input(format!("the recorded arguments no longer parse: {e}")))?;
     let Some(super::Command::Animate(animate_args)) = cli.command else {
-        bail!("the recorded arguments do not describe an animation");
+        return Err(bad_input("the recorded arguments do not describe an animation"));
     };
     animate::run(&animate_args, &argv)?;
     let frame = std::fs::read_dir(scratch.path())?

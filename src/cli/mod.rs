@@ -10,7 +10,16 @@ pub mod report;
 pub mod status;
 pub mod sweep;
 
+use std::process::ExitCode;
+
 use clap::{Parser, Subcommand};
+
+use penumbra::film::OutputError;
+use penumbra::report::run::ReportError;
+use penumbra::report::sweep::SweepError;
+use penumbra::scene::obj::ObjError;
+use penumbra::scene::SceneError;
+use penumbra::script::ScriptError;
 
 /// Penumbra: a data-oriented CPU ray tracer.
 #[derive(Parser, Debug)]
@@ -38,4 +47,38 @@ pub enum Command {
     /// Measure what accuracy costs in time: error against a reference for each effect's
     /// sample count, with tables, plots and an HTML page.
     Report(report::ReportArgs),
+}
+
+/// A bad combination or value of command-line arguments (or of a file they name) that clap
+/// cannot check by itself; the message names the argument and the rule.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct BadInput(pub String);
+
+/// A [`BadInput`] as an `anyhow::Error`, for `return Err(bad_input(...))` and `ok_or_else`.
+pub fn bad_input(message: impl Into<String>) -> anyhow::Error {
+    BadInput(message.into()).into()
+}
+
+/// The exit status for an error `main` reports:
+///
+/// - `2`: bad input: a scene ([`SceneError`], meshes included), an OBJ file ([`ObjError`]), a
+///   script ([`ScriptError`]), a sweep file ([`SweepError`]), a file that cannot be read as an
+///   image ([`OutputError::Read`]), a reference image of the wrong size
+///   ([`ReportError::ReferenceSize`]) or a command-line argument ([`BadInput`]; clap's own parse
+///   errors exit 2 before this is reached);
+/// - `1`: anything else: the render or a write failed (e.g. an unwritable output path).
+///
+/// Success is `0`; a stop by SIGINT or SIGTERM exits `128 + N` (see [`interrupt`]).
+pub fn exit_code(error: &anyhow::Error) -> ExitCode {
+    let bad_input = error.chain().any(|e| {
+        e.is::<SceneError>()
+            || e.is::<ObjError>()
+            || e.is::<ScriptError>()
+            || e.is::<SweepError>()
+            || e.is::<BadInput>()
+            || matches!(e.downcast_ref::<OutputError>(), Some(OutputError::Read { .. }))
+            || matches!(e.downcast_ref::<ReportError>(), Some(ReportError::ReferenceSize { .. }))
+    });
+    ExitCode::from(if bad_input { 2 } else { 1 })
 }

@@ -17,7 +17,7 @@ use penumbra::store::{AosStore, PrimitiveStore, SoaStore};
 use penumbra::trace::{render_with_aovs, RenderSettings, RenderStats};
 use penumbra::world::SceneWorld;
 
-use super::meta;
+use super::{bad_input, meta};
 
 #[derive(Args, Debug, Default)]
 pub struct RenderArgs {
@@ -67,13 +67,19 @@ pub struct FrameArgs {
     #[arg(long, value_name = "EFFECT=PATTERN", value_parser = parse_pattern)]
     pattern: Vec<(Effect, Pattern)>,
     /// Adaptive supersampling with this corner threshold (`T`, or `T:DEPTH`, depth 1..=6, default 3).
-    #[arg(long, value_name = "T[:DEPTH]", value_parser = parse_adaptive, conflicts_with = "no_adaptive")]
+    #[arg(
+        long,
+        value_name = "T[:DEPTH]",
+        allow_negative_numbers = true,
+        value_parser = parse_adaptive,
+        conflicts_with = "no_adaptive"
+    )]
     adaptive: Option<(f32, u32)>,
     /// Turn off adaptive supersampling set in the scene.
     #[arg(long)]
     no_adaptive: bool,
     /// Lens radius (0 = pinhole).
-    #[arg(long, value_name = "R", value_parser = parse_aperture)]
+    #[arg(long, value_name = "R", allow_negative_numbers = true, value_parser = parse_aperture)]
     aperture: Option<f32>,
     /// Output encoding (default: from the extension): png8, png16, exr-half, exr-float.
     #[arg(long, value_name = "FORMAT")]
@@ -256,8 +262,11 @@ impl FrameArgs {
     pub fn format_for(&self, output: &Path) -> anyhow::Result<OutputFormat> {
         match self.format {
             Some(f) => Ok(f),
-            None => OutputFormat::from_path(output).with_context(|| {
-                format!("{}: unknown output extension; use .png or .exr, or --format", output.display())
+            None => OutputFormat::from_path(output).ok_or_else(|| {
+                bad_input(format!(
+                    "{}: unknown output extension; use .png or .exr, or --format",
+                    output.display()
+                ))
             }),
         }
     }

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::{bail, Context};
+use anyhow::Context;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
@@ -13,6 +13,7 @@ use penumbra::report::sweep::SweepDesc;
 use penumbra::report::{html, plot};
 use penumbra::scene;
 
+use super::bad_input;
 use super::render::{apply_size, say};
 
 /// Arguments of `penumbra report`.
@@ -53,7 +54,7 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
     let mut desc = scene::load_scene(&args.scene)?;
     apply_size(&mut desc, args.width, args.height);
     let sweep = match &args.sweep {
-        Some(path) => SweepDesc::load(path).map_err(anyhow::Error::msg)?,
+        Some(path) => SweepDesc::load(path)?,
         None => SweepDesc::default_for(&effects_of(&desc)),
     };
     let reference = match &args.reference {
@@ -64,7 +65,7 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
         None => None,
     };
     if args.output.is_file() {
-        bail!("{}: is a file; the report needs a folder", args.output.display());
+        return Err(bad_input(format!("{}: is a file; the report needs a folder", args.output.display())));
     }
     std::fs::create_dir_all(&args.output)
         .with_context(|| format!("{}: cannot create the report folder", args.output.display()))?;

@@ -17,15 +17,44 @@
 //! While one axis varies, every other effect keeps the scene's own setting: each curve shows
 //! what that one sample count buys in the image a user would ship.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
 use crate::sample::adaptive::AdaptiveSettings;
 use crate::sample::Pattern;
+use crate::scene::locate::{path_at, position_of, FieldPath};
 use crate::scene::validate::{MAX_ADAPTIVE_DEPTH, MAX_SAMPLES};
 use crate::scene::{AdaptiveDesc, LightDesc, SceneDesc};
 use crate::trace::Effects;
+
+/// Why a sweep file could not be loaded; displays like a scene error,
+/// `file:line:col: field `axes[0].samples[1]`: rule`.
+#[derive(Debug, thiserror::Error)]
+pub enum SweepError {
+    /// The sweep file could not be read.
+    #[error("{}: cannot read sweep: {source}", path.display())]
+    Io {
+        /// The path as given.
+        path: PathBuf,
+        /// The underlying I/O error.
+        source: std::io::Error,
+    },
+    /// The sweep text is malformed or breaks a rule.
+    #[error("{path}:{line}:{col}: field `{field}`: {rule}")]
+    Invalid {
+        /// Where the text came from.
+        path: String,
+        /// 1-based line of the offending value.
+        line: usize,
+        /// 1-based column of the offending value.
+        col: usize,
+        /// The field, e.g. `axes[0].samples[1]`.
+        field: String,
+        /// What is wrong and what is allowed.
+        rule: String,
+    },
+}
 
 /// One axis of a sweep.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
@@ -103,36 +132,48 @@ impl Axis {
         settings.into_iter().map(|setting| Variant { axis: self.name(), setting }).collect()
     }
 
-    /// The first rule the axis breaks, if any.
-    fn check(&self) -> Result<(), String> {
-        let name = self.name();
-        let counts = |samples: &[u32]| -> Result<(), String> {
+    /// The first rule the axis breaks, if any: the field (`samples`, `patterns`, ...) and
+    /// the rule. With `samples`, the index of the offending value is in the field.
+    fn check(&self) -> Result<(), (String, String)> {
+        let counts = |samples: &[u32]| -> Result<(), (String, String)> {
             if samples.is_empty() {
-                return Err(format!("{name}: `samples` lists no values"));
+                return Err(("samples".into(), "lists no values; give at least one sample count".into()));
             }
-            match samples.iter().find(|n| !(1..=MAX_SAMPLES).contains(n)) {
-                Some(n) => Err(format!("{name}: sample count {n} is not in 1..={MAX_SAMPLES}")),
+            match samples.iter().position(|n| !(1..=MAX_SAMPLES).contains(n)) {
+                Some(i) => Err((
+                    format!("samples[{i}]"),
+                    format!("sample count must be in 1..={MAX_SAMPLES}, got {}", samples[i]),
+                )),
                 None => Ok(()),
             }
         };
         match self {
             Axis::Aa { samples, patterns } if patterns.is_empty() => {
                 counts(samples)?;
-                Err("aa: `patterns` lists no values".into())
+                Err(("patterns".into(), "lists no values; give at least one pattern".into()))
             }
             Axis::Aa { samples, .. }
             | Axis::AreaLight { samples }
             | Axis::Glossy { samples }
             | Axis::Lens { samples } => counts(samples),
             Axis::Adaptive { thresholds, depths } => {
-                if thresholds.is_empty() || depths.is_empty() {
-                    return Err("adaptive: `thresholds` and `depths` must list values".into());
+                if thresholds.is_empty() {
+                    return Err(("thresholds".into(), "lists no values; give at least one threshold".into()));
                 }
-                if let Some(t) = thresholds.iter().find(|t| !(t.is_finite() && **t >= 0.0)) {
-                    return Err(format!("adaptive: threshold {t} must be finite and >= 0"));
+                if depths.is_empty() {
+                    return Err(("depths".into(), "lists no values; give at least one depth".into()));
                 }
-                match depths.iter().find(|d| !(1..=MAX_ADAPTIVE_DEPTH).contains(d)) {
-                    Some(d) => Err(format!("adaptive: depth {d} is not in 1..={MAX_ADAPTIVE_DEPTH}")),
+                if let Some(i) = thresholds.iter().position(|t| !(t.is_finite() && *t >= 0.0)) {
+                    return Err((
+                        format!("thresholds[{i}]"),
+                        format!("threshold must be finite and >= 0, got {}", thresholds[i]),
+                    ));
+                }
+                match depths.iter().position(|d| !(1..=MAX_ADAPTIVE_DEPTH).contains(d)) {
+                    Some(i) => Err((
+                        format!("depths[{i}]"),
+                        format!("depth must be in 1..={MAX_ADAPTIVE_DEPTH}, got {}", depths[i]),
+                    )),
                     None => Ok(()),
                 }
             }
@@ -313,28 +354,43 @@ impl SweepDesc {
         Self { axes, reference: ReferenceSettings::default() }
     }
 
-    /// Reads a sweep file; errors name the file, line and column.
-    pub fn load(path: &Path) -> Result<Self, String> {
+    /// Reads a sweep file; errors name the file, line, column, field and rule.
+    pub fn load(path: &Path) -> Result<Self, SweepError> {
         let text = std::fs::read_to_string(path)
-            .map_err(|e| format!("{}: cannot read sweep: {e}", path.display()))?;
+            .map_err(|source| SweepError::Io { path: path.to_path_buf(), source })?;
         Self::parse(&text, &path.display().to_string())
     }
 
     /// Parses sweep text; `origin` names it in errors.
-    pub fn parse(text: &str, origin: &str) -> Result<Self, String> {
-        let sweep: SweepDesc = ron::from_str(text)
-            .map_err(|e| format!("{origin}:{}:{}: {}", e.span.start.line, e.span.start.col, e.code))?;
+    pub fn parse(text: &str, origin: &str) -> Result<Self, SweepError> {
+        let invalid = |(line, col): (usize, usize), field: String, rule: String| SweepError::Invalid {
+            path: origin.to_owned(),
+            line,
+            col,
+            field: if field.is_empty() { "Sweep".to_owned() } else { field },
+            rule,
+        };
+        let at =
+            |field: &str| FieldPath::parse(field).and_then(|path| position_of(text, &path)).unwrap_or((1, 1));
+        let sweep: SweepDesc = ron::from_str(text).map_err(|e| {
+            let (line, col) = (e.span.start.line, e.span.start.col);
+            invalid((line, col), path_at(text, line, col).to_string(), e.code.to_string())
+        })?;
         if sweep.axes.is_empty() {
-            return Err(format!("{origin}: `axes` lists no axis"));
+            return Err(invalid(at("axes"), "axes".into(), "lists no axis; give at least one".into()));
         }
-        for axis in &sweep.axes {
-            axis.check().map_err(|rule| format!("{origin}: axes: {rule}"))?;
+        for (i, axis) in sweep.axes.iter().enumerate() {
+            axis.check().map_err(|(field, rule)| {
+                let field = format!("axes[{i}].{field}");
+                invalid(at(&field), field, format!("{}: {rule}", axis.name()))
+            })?;
         }
         let r = &sweep.reference;
         for (name, n) in [("aa", r.aa), ("lens", r.lens), ("area_light", r.area_light), ("glossy", r.glossy)]
         {
             if !(1..=MAX_SAMPLES).contains(&n) {
-                return Err(format!("{origin}: reference.{name}: {n} is not in 1..={MAX_SAMPLES}"));
+                let field = format!("reference.{name}");
+                return Err(invalid(at(&field), field, format!("must be in 1..={MAX_SAMPLES}, got {n}")));
             }
         }
         Ok(sweep)
@@ -391,10 +447,18 @@ mod tests {
         assert_eq!(sweep.reference, ReferenceSettings { aa: 32, ..ReferenceSettings::default() });
         assert_eq!(sweep.variants()[1].label(), "aa 4 jittered");
         let e = SweepDesc::parse("Sweep(axes: [Aa(samples: [1, 4], pattern: [Grid])])", "s.ron").unwrap_err();
-        assert!(e.starts_with("s.ron:1:"), "{e}");
-        let e = SweepDesc::parse("Sweep(axes: [Lens(samples: [0])])", "s.ron").unwrap_err();
-        assert!(e.contains("sample count 0 is not in 1..=4096"), "{e}");
-        let e = SweepDesc::parse("Sweep(axes: [])", "s.ron").unwrap_err();
-        assert!(e.contains("no axis"), "{e}");
+        assert!(e.to_string().starts_with("s.ron:1:"), "{e}");
+        let e = SweepDesc::parse("Sweep(axes: [Lens(samples: [2, 0])])", "s.ron").unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "s.ron:1:31: field `axes[0].samples[1]`: lens: sample count must be in 1..=4096, got 0"
+        );
+        let e = SweepDesc::parse("Sweep(axes: [])", "s.ron").unwrap_err().to_string();
+        assert!(e.contains("field `axes`") && e.contains("no axis"), "{e}");
+        let e = SweepDesc::parse("Sweep(axes: [Aa(samples: [1])], reference: (aa: 0))", "s.ron").unwrap_err();
+        assert!(
+            e.to_string().contains("s.ron:1:49: field `reference.aa`: must be in 1..=4096, got 0"),
+            "{e}"
+        );
     }
 }
