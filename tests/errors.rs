@@ -30,7 +30,6 @@ Scene(
 const MATERIAL: &str = r#"(name: "m", kd: (0.7, 0.6, 0.5))"#;
 const OBJECT: &str = r#"(name: "ball", shape: Sphere(centre: (0, 0.5, 0), radius: 0.5), material: "m")"#;
 const MESH: &str = r#"(name: "mesh", shape: Mesh(file: "m.obj"), material: "m")"#;
-const TRIANGLE_OBJ: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
 
 /// A scene with `object` and `material` in place of the defaults.
 fn scene_with(object: &str, material: &str) -> String {
@@ -414,7 +413,7 @@ fn images(path: &Path) -> Vec<String> {
     if path.is_dir() {
         let entries = std::fs::read_dir(path).expect("readable folder");
         entries.filter_map(Result::ok).flat_map(|e| images(&e.path())).collect()
-    } else if path.exists() && !path.extension().is_some_and(|e| e == "json") {
+    } else if path.exists() && path.extension().is_none_or(|e| e != "json") {
         vec![path.display().to_string()]
     } else {
         Vec::new()
