@@ -451,7 +451,7 @@ mod tests {
         let e = SweepDesc::parse("Sweep(axes: [Lens(samples: [2, 0])])", "s.ron").unwrap_err().to_string();
         assert_eq!(
             e,
-            "s.ron:1:31: field `axes[0].samples[1]`: lens: sample count must be in 1..=4096, got 0"
+            "s.ron:1:32: field `axes[0].samples[1]`: lens: sample count must be in 1..=4096, got 0"
         );
         let e = SweepDesc::parse("Sweep(axes: [])", "s.ron").unwrap_err().to_string();
         assert!(e.contains("field `axes`") && e.contains("no axis"), "{e}");
