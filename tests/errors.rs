@@ -228,6 +228,12 @@ fn rows() -> Vec<Row> {
             &["objects[0].transform.scale", "must be uniform for a sphere"],
         ),
         scene_row(
+            "coordinate beyond 1e18",
+            scene("centre: (0, 0.5, 0)", "centre: (0, 0.5, 3e19)"),
+            "(0, 0.5, 3e19)",
+            &["objects[0].shape.centre", "must lie within ±1e18", "z = 3e19"],
+        ),
+        scene_row(
             "camera width 0",
             scene("width: 8", "width: 0"),
             "0, height",
@@ -300,6 +306,12 @@ fn rows() -> Vec<Row> {
             "fn frame(t) {\n    camera.fov = 500.0;\n}\n",
             "fov = 500",
             &["camera.fov", "must be in (0, 180)", "500"],
+        ),
+        script_row(
+            "script position beyond 1e18",
+            "fn frame(t) {\n    let b = entity(\"ball\");\n    b.position = vec3(1e38 * 10.0, 0.0, 0.0);\n}\n",
+            "position =",
+            &["entity `ball`: position", "must be finite in every component (as a 32-bit float)"],
         ),
         script_row(
             "script operation limit",

@@ -315,6 +315,68 @@ fn sphere_radius_is_positive() {
 }
 
 #[test]
+fn coordinates_radii_and_scales_lie_within_1e18() {
+    // Beyond ±1e18 a squared distance overflows f32; 1e18 itself is accepted.
+    let ok = edit(27, "centre: (0.0, 1.0, 0.0), radius: 1.0", "centre: (0.0, 1e18, 0.0), radius: 1e18");
+    parse_scene(&ok, "ok.ron").unwrap_or_else(|e| panic!("{e}"));
+    let cases = [
+        (
+            27,
+            "centre: (0.0, 1.0, 0.0)",
+            "centre: (0.0, -2e18, 0.0)",
+            "(0.0, -2e18",
+            "objects[0].shape.centre",
+            "y = -2e18",
+        ),
+        (27, "radius: 1.0", "radius: 5e18", "5e18", "objects[0].shape.radius", "got 5e18"),
+        (
+            28,
+            "point: (0.0, 0.0, 0.0)",
+            "point: (3e20, 0.0, 0.0)",
+            "(3e20",
+            "objects[1].shape.point",
+            "x = 3e20",
+        ),
+        (
+            29,
+            "(1.0, 0.0, 0.0), (0.0, 1.0",
+            "(1.0, 0.0, 1e19), (0.0, 1.0",
+            "(1.0, 0.0, 1e19)",
+            "objects[2].shape.vertices[1]",
+            "z = 1e19",
+        ),
+        (
+            31,
+            "scale: (1.0, 2.0, 1.0)",
+            "scale: (1.0, 2e18, 1.0)",
+            "(1.0, 2e18",
+            "objects[4].transform.scale",
+            "y = 2e18",
+        ),
+        (
+            31,
+            "translate: (0.0, 0.0, 0.0)",
+            "translate: (0.0, 0.0, 1e30)",
+            "(0.0, 0.0, 1e30)",
+            "objects[4].transform.translate",
+            "z = 1e30",
+        ),
+        (
+            23,
+            "position: (0.0, 5.0, -5.0)",
+            "position: (0.0, 5e25, -5.0)",
+            "(0.0, 5e25",
+            "lights[0].position",
+            "y = 5e25",
+        ),
+    ];
+    for (line, from, to, at, field, got) in cases {
+        let text = edit(line, from, to);
+        assert_invalid(&text, line, at, field, &["must lie within ±1e18", got]);
+    }
+}
+
+#[test]
 fn plane_normal_is_non_zero() {
     let text = edit(28, "normal: (0.0, 1.0, 0.0)", "normal: (0.0, 0.0, 0.0)");
     assert_invalid(&text, 28, "(0.0, 0.0, 0.0)),", "objects[1].shape.normal", &["must be non-zero"]);

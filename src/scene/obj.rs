@@ -14,8 +14,9 @@
 //! scenes/bad.obj:12: face index 9 is out of range: only 8 vertices (`v`) come before this line
 //! ```
 //!
-//! The rules: `v` takes three finite numbers, optionally followed by a weight `w` (tobj divides
-//! by it) or by an `r g b` colour (dropped); `vn` takes three finite numbers and `vt` at least
+//! The rules: `v` takes three finite numbers within ±1e18 (`validate::MAX_COORDINATE`),
+//! optionally followed by a weight `w` (tobj divides by it; the result obeys the same rule) or
+//! by an `r g b` colour (dropped); `vn` takes three finite numbers and `vt` at least
 //! two; a face `f` takes at least three vertices `v`, `v/vt`, `v//vn` or `v/vt/vn`, whose indices
 //! are 1-based, or negative to count back from the last record read so far (`-1` is the last),
 //! and must refer to a record that comes before the face; `0` is never an index. A file with no
@@ -26,6 +27,7 @@ use std::path::{Path, PathBuf};
 
 use crate::geom::mesh::{vertex_normals, MeshData};
 use crate::math::Vec3;
+use crate::scene::validate::{coordinate_rule, MAX_COORDINATE};
 
 /// Why an OBJ mesh could not be loaded.
 #[derive(Debug, thiserror::Error)]
@@ -194,15 +196,20 @@ fn scan(text: &str) -> Result<Scan, ScanError> {
                     if !c.is_finite() {
                         return Err(at(format!("non-finite coordinate `{word}` in `v` record")));
                     }
+                    if c.abs() > MAX_COORDINATE {
+                        return Err(at(format!("coordinate `{word}` in `v` record {}", coordinate_rule())));
+                    }
                 }
                 let extra: Vec<&str> = words.collect();
                 match extra.len() {
                     0 => {}
                     1 => {
                         let w = number(extra[0], "v").map_err(at)?;
-                        if w == 0.0 || !p.iter().all(|c| (c / w).is_finite()) {
+                        if w == 0.0
+                            || !p.iter().all(|c| (c / w).is_finite() && (c / w).abs() <= MAX_COORDINATE)
+                        {
                             return Err(at(format!(
-                                "`v` weight w = {} makes the position non-finite",
+                                "`v` weight w = {} makes the position non-finite or beyond ±{MAX_COORDINATE:e}",
                                 extra[0]
                             )));
                         }
@@ -463,7 +470,13 @@ mod tests {
                 &format!("non-finite coordinate `{word}` in `v` record"),
             );
         }
-        assert_invalid("v 1e30 0 0 1e-30\n", 1, "weight w = 1e-30 makes the position non-finite");
+        assert_invalid("v 1e10 0 0 1e-30\n", 1, "weight w = 1e-30 makes the position non-finite");
+        assert_invalid(
+            "v 1e10 0 0 1e-10\n",
+            1,
+            "weight w = 1e-10 makes the position non-finite or beyond ±1e18",
+        );
+        assert_invalid("v 0 0 0\nv 0 -2e18 0\n", 2, "coordinate `-2e18` in `v` record must lie within ±1e18");
         assert_invalid("vn 0 NaN 1\n", 1, "non-finite component `NaN` in `vn` record");
     }
 

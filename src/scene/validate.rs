@@ -35,6 +35,11 @@ pub const UNIFORM_SCALE_TOLERANCE: f32 = 1e-5;
 pub const MAX_SAMPLES: u32 = 4096;
 /// Largest accepted `settings.adaptive.max_depth`.
 pub const MAX_ADAPTIVE_DEPTH: u32 = 6;
+/// Largest accepted magnitude of any coordinate, radius or scale component. Intersection
+/// tests square distances in 32-bit floats (largest ≈ 3.4e38), so a value beyond about 1.8e19
+/// overflows; the limit leaves a margin for sums, and a scaled object (scale × coordinate
+/// ≤ 1e36) still has finite bounds.
+pub const MAX_COORDINATE: f32 = 1e18;
 
 /// The first rule a scene breaks: which field, and what is wrong with it.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -117,8 +122,8 @@ pub fn material_violation(material: &MaterialDesc) -> Option<Violation> {
 }
 
 fn camera(path: &FieldPath, camera: &CameraDesc) -> Check {
-    finite_vec(path, "position", camera.position)?;
-    finite_vec(path, "look_at", camera.look_at)?;
+    coordinate_vec(path, "position", camera.position)?;
+    coordinate_vec(path, "look_at", camera.look_at)?;
     let view = camera.look_at.as_dvec3() - camera.position.as_dvec3();
     if view == DVec3::ZERO {
         return fail(
@@ -160,7 +165,7 @@ fn camera(path: &FieldPath, camera: &CameraDesc) -> Check {
         }
     }
     if let Some(point) = camera.focus_on {
-        finite_vec(path, "focus_on", point)?;
+        coordinate_vec(path, "focus_on", point)?;
         if camera.focus_distance.is_some() {
             let rule = "must not be given together with `focus_distance`; give one of them".into();
             return fail(path, "focus_on", rule);
@@ -262,7 +267,7 @@ fn material(path: &FieldPath, material: &MaterialDesc) -> Check {
 fn light(path: &FieldPath, light: &LightDesc) -> Check {
     let (colour, intensity, samples) = match light {
         LightDesc::Point { position, colour, intensity } => {
-            finite_vec(path, "position", *position)?;
+            coordinate_vec(path, "position", *position)?;
             (colour, intensity, None)
         }
         LightDesc::Directional { direction, colour, intensity } => {
@@ -270,7 +275,7 @@ fn light(path: &FieldPath, light: &LightDesc) -> Check {
             (colour, intensity, None)
         }
         LightDesc::Rect { corner, edge_u, edge_v, colour, intensity, samples, .. } => {
-            finite_vec(path, "corner", *corner)?;
+            coordinate_vec(path, "corner", *corner)?;
             non_zero_vec(path, "edge_u", *edge_u)?;
             non_zero_vec(path, "edge_v", *edge_v)?;
             let (u, v) = (edge_u.as_dvec3(), edge_v.as_dvec3());
@@ -282,9 +287,9 @@ fn light(path: &FieldPath, light: &LightDesc) -> Check {
             (colour, intensity, Some(samples))
         }
         LightDesc::Disk { centre, normal, radius, colour, intensity, samples, .. } => {
-            finite_vec(path, "centre", *centre)?;
+            coordinate_vec(path, "centre", *centre)?;
             non_zero_vec(path, "normal", *normal)?;
-            finite(path, "radius", *radius)?;
+            coordinate(path, "radius", *radius)?;
             if *radius <= 0.0 {
                 return fail(path, "radius", format!("must be > 0, got {radius}"));
             }
@@ -316,9 +321,9 @@ fn object(path: &FieldPath, object: &ObjectDesc, materials: &[MaterialDesc]) -> 
 }
 
 fn transform(path: &FieldPath, transform: &TransformDesc, shape: &ShapeDesc) -> Check {
-    finite_vec(path, "translate", transform.translate)?;
+    coordinate_vec(path, "translate", transform.translate)?;
     finite_vec(path, "rotate_deg", transform.rotate_deg)?;
-    finite_vec(path, "scale", transform.scale)?;
+    coordinate_vec(path, "scale", transform.scale)?;
     if let Some((i, _)) = first_component(transform.scale, |s| s == 0.0) {
         return fail(path, "scale", format!("must be non-zero on every axis, got {} = 0", AXES[i]));
     }
@@ -339,14 +344,14 @@ fn transform(path: &FieldPath, transform: &TransformDesc, shape: &ShapeDesc) -> 
 fn shape(path: &FieldPath, shape: &ShapeDesc) -> Check {
     match shape {
         ShapeDesc::Sphere { centre, radius } => {
-            finite_vec(path, "centre", *centre)?;
-            finite(path, "radius", *radius)?;
+            coordinate_vec(path, "centre", *centre)?;
+            coordinate(path, "radius", *radius)?;
             if *radius <= 0.0 {
                 return fail(path, "radius", format!("must be > 0, got {radius}"));
             }
         }
         ShapeDesc::Plane { point, normal } => {
-            finite_vec(path, "point", *point)?;
+            coordinate_vec(path, "point", *point)?;
             finite_vec(path, "normal", *normal)?;
             if *normal == Vec3::ZERO {
                 return fail(path, "normal", "must be non-zero, got (0, 0, 0)".into());
@@ -355,7 +360,7 @@ fn shape(path: &FieldPath, shape: &ShapeDesc) -> Check {
         ShapeDesc::Triangle { vertices } => {
             let path = path.clone().field("vertices");
             for (i, v) in vertices.iter().enumerate() {
-                finite_vec(&path, i, *v)?;
+                coordinate_vec(&path, i, *v)?;
             }
             let [a, b, c] = vertices.map(|v| v.as_dvec3());
             let longest = (b - a).length().max((c - b).length()).max((a - c).length());
@@ -371,8 +376,8 @@ fn shape(path: &FieldPath, shape: &ShapeDesc) -> Check {
             }
         }
         ShapeDesc::Cuboid { min, max } => {
-            finite_vec(path, "min", *min)?;
-            finite_vec(path, "max", *max)?;
+            coordinate_vec(path, "min", *min)?;
+            coordinate_vec(path, "max", *max)?;
             if let Some((axis, _)) = first_component(*max - *min, |d| d <= 0.0) {
                 let (hi, lo) = (max[axis], min[axis]);
                 let rule = format!(
@@ -393,7 +398,7 @@ fn polygon(path: &FieldPath, vertices: &[Vec3]) -> Check {
         return Err(Violation { path: path.clone(), rule });
     }
     for (i, v) in vertices.iter().enumerate() {
-        finite_vec(path, i, *v)?;
+        coordinate_vec(path, i, *v)?;
     }
     let v: Vec<DVec3> = vertices.iter().map(|v| v.as_dvec3()).collect();
     let n = v.len();
@@ -493,6 +498,29 @@ fn finite_vec(path: &FieldPath, child: impl Child, value: Vec3) -> Check {
         Some((i, c)) => {
             fail(path, child, format!("must be a finite number in every component, got {} = {c}", AXES[i]))
         }
+    }
+}
+
+/// A point, extent or scale: finite and within ±[`MAX_COORDINATE`] in every component.
+fn coordinate_vec(path: &FieldPath, child: impl Child + Copy, value: Vec3) -> Check {
+    finite_vec(path, child, value)?;
+    match first_component(value, |c| c.abs() > MAX_COORDINATE) {
+        None => Ok(()),
+        Some((i, c)) => fail(path, child, format!("{}, got {} = {c:e}", coordinate_rule(), AXES[i])),
+    }
+}
+
+/// The rule every coordinate, radius and scale obeys (see [`MAX_COORDINATE`]).
+pub fn coordinate_rule() -> String {
+    format!("must lie within ±{MAX_COORDINATE:e} (distances are squared in 32-bit floats)")
+}
+
+/// A finite value within ±[`MAX_COORDINATE`].
+fn coordinate(path: &FieldPath, name: &str, value: f32) -> Check {
+    finite(path, name, value)?;
+    match value.abs() <= MAX_COORDINATE {
+        true => Ok(()),
+        false => fail(path, name, format!("{}, got {value:e}", coordinate_rule())),
     }
 }
 

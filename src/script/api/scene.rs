@@ -11,7 +11,9 @@ use rhai::{Array, Dynamic, Engine, ImmutableString, Module, FLOAT, INT};
 
 use super::convert::{error, finite, integer, ScriptResult};
 use crate::scene::format::{CameraDesc, MaterialDesc, SamplingDesc};
-use crate::scene::validate::{self, MAX_ADAPTIVE_DEPTH, MAX_DEPTH, MAX_IMAGE_SIZE, MAX_SAMPLES};
+use crate::scene::validate::{
+    self, coordinate_rule, MAX_ADAPTIVE_DEPTH, MAX_COORDINATE, MAX_DEPTH, MAX_IMAGE_SIZE, MAX_SAMPLES,
+};
 use crate::script::state::{EntityKind, EntityState, FocusState, MaterialParams, ScriptState, SharedState};
 
 /// Camera properties a sweep parameter may name.
@@ -67,11 +69,20 @@ fn register_clock(engine: &mut Engine, state: &SharedState) {
     engine.register_fn("fps", move || s.lock().clock.fps as FLOAT);
 }
 
-/// A finite vector, or an error naming `what`.
+/// A vector finite in 32-bit floats (the World's precision), or an error naming `what`.
 fn finite_vec(v: DVec3, what: &str) -> ScriptResult<DVec3> {
-    match v.is_finite() {
+    match v.as_vec3().is_finite() {
         true => Ok(v),
-        false => error(format!("{what} must be finite in every component, got {v}")),
+        false => error(format!("{what} must be finite in every component (as a 32-bit float), got {v}")),
+    }
+}
+
+/// A point or scale: finite and within ±`MAX_COORDINATE`, the scene format's rule.
+fn coordinate_vec(v: DVec3, what: &str) -> ScriptResult<DVec3> {
+    let v = finite_vec(v, what)?;
+    match v.abs().max_element() <= f64::from(MAX_COORDINATE) {
+        true => Ok(v),
+        false => error(format!("{what} {}, got {v}", coordinate_rule())),
     }
 }
 
@@ -83,7 +94,7 @@ fn register_camera(engine: &mut Engine) {
         ($name:literal, $field:ident) => {
             engine.register_get($name, |c: &mut CameraHandle| c.0.lock().camera.$field);
             engine.register_set($name, |c: &mut CameraHandle, v: DVec3| -> ScriptResult<()> {
-                let v = finite_vec(v, concat!("camera.", $name))?;
+                let v = coordinate_vec(v, concat!("camera.", $name))?;
                 let mut s = c.0.lock();
                 s.camera.$field = v;
                 s.camera_dirty = true;
@@ -243,7 +254,7 @@ fn register_entities(engine: &mut Engine, state: &SharedState) {
             if let EntityKind::Light { positioned: false } = entry.kind {
                 return error(format!("entity `{}` is a directional light: it has no position", entry.name));
             }
-            entry.position = finite_vec(v, &format!("entity `{}`: position", entry.name))?;
+            entry.position = coordinate_vec(v, &format!("entity `{}`: position", entry.name))?;
             entry.transform_dirty = true;
             Ok(())
         })
@@ -268,8 +279,8 @@ fn register_entities(engine: &mut Engine, state: &SharedState) {
             let uniform = object(entry, "scale")?;
             let what = format!("entity `{}`: scale", entry.name);
             let v = match v.clone().try_cast::<DVec3>() {
-                Some(v) => finite_vec(v, &what)?,
-                None => DVec3::splat(finite(&v, &what)?),
+                Some(v) => coordinate_vec(v, &what)?,
+                None => coordinate_vec(DVec3::splat(finite(&v, &what)?), &what)?,
             };
             if v.cmpeq(DVec3::ZERO).any() {
                 return error(format!("{what} must be non-zero on every axis, got {v}"));
