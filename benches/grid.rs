@@ -20,13 +20,14 @@ mod common;
 mod harness;
 
 use std::hint::black_box;
-use std::time::{Duration, Instant};
 
 use criterion::{BenchmarkId, Criterion, Throughput};
 use penumbra::camera::Camera;
 use penumbra::math::{offset_distance, Ray, Vec3};
 use penumbra::store::{PlacedObject, PrimitiveStore};
 use penumbra::trace::{closest_hit, closest_hit_brute, Light, Material, SceneTables, TraceScene};
+
+use harness::rays::median;
 
 /// Scene sizes of `grid_vs_brute`.
 const SIZES: &[usize] = &[100, 1_000, 10_000, 100_000];
@@ -131,19 +132,6 @@ fn grid_lambda(c: &mut Criterion) {
         }
     }
     group.finish();
-}
-
-/// Median of `reps` timings of `f`.
-fn median<T>(reps: usize, mut f: impl FnMut() -> T) -> Duration {
-    let mut times: Vec<Duration> = (0..reps)
-        .map(|_| {
-            let start = Instant::now();
-            black_box(f());
-            start.elapsed()
-        })
-        .collect();
-    times.sort();
-    times[reps / 2]
 }
 
 fn print_tables() {

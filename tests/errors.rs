@@ -133,6 +133,11 @@ fn flag_row(name: &'static str, extra: &[&'static str], says: &[&'static str]) -
 
 const FRAME: &str = "fn frame(t) {\n}\n";
 
+/// An animate row: the valid scene and an empty `frame(t)`, with `args` as the whole command.
+fn animate_row(name: &'static str, args: &[&'static str], says: &[&'static str]) -> Row {
+    row(name, 2, args).valid_inputs().file("s.rhai", FRAME).says(says)
+}
+
 fn rows() -> Vec<Row> {
     vec![
         // Scene: RON errors.
@@ -353,34 +358,13 @@ fn rows() -> Vec<Row> {
         row("unknown output extension", 2, &["render", "{dir}/s.ron", "-o", "{dir}/out.txt"])
             .valid_inputs()
             .says(&["{dir}/out.txt", "unknown output extension", "--format"]),
-        row("animate --frames bad range", 2, &["animate", "{dir}/s.ron", "{dir}/s.rhai", "--frames", "5..=2", "-o", "{dir}/out"])
-            .valid_inputs()
-            .file("s.rhai", FRAME)
-            .says(&["--frames", "the first frame comes after the last"]),
-        row("animate --frames not a number", 2, &["animate", "{dir}/s.ron", "{dir}/s.rhai", "--frames", "x..=2", "-o", "{dir}/out"])
-            .valid_inputs()
-            .file("s.rhai", FRAME)
-            .says(&["--frames", "is not a frame number"]),
-        row("animate --shard bad", 2, &with(ANIMATE, &["--shard", "bad"]))
-            .valid_inputs()
-            .file("s.rhai", FRAME)
-            .says(&["--shard", "expected INDEX/COUNT"]),
-        row("animate --shard out of range", 2, &with(ANIMATE, &["--shard", "4/4"]))
-            .valid_inputs()
-            .file("s.rhai", FRAME)
-            .says(&["--shard", "shard index 4 is out of range for 4 shards"]),
-        row("animate --fps 0", 2, &with(ANIMATE, &["--fps", "0"]))
-            .valid_inputs()
-            .file("s.rhai", FRAME)
-            .says(&["--fps", "fps must be a number in (0, 1000]"]),
-        row("animate --split bogus", 2, &with(ANIMATE, &["--split", "bogus"]))
-            .valid_inputs()
-            .file("s.rhai", FRAME)
-            .says(&["--split", "unknown split `bogus`"]),
-        row("animate --video with EXR frames", 2, &with(ANIMATE, &["--format", "exr-half", "--video", "{dir}/v.mp4"]))
-            .valid_inputs()
-            .file("s.rhai", FRAME)
-            .says(&["--video", "encoding needs PNG frames"]),
+        animate_row("animate --frames bad range", &["animate", "{dir}/s.ron", "{dir}/s.rhai", "--frames", "5..=2", "-o", "{dir}/out"], &["--frames", "the first frame comes after the last"]),
+        animate_row("animate --frames not a number", &["animate", "{dir}/s.ron", "{dir}/s.rhai", "--frames", "x..=2", "-o", "{dir}/out"], &["--frames", "is not a frame number"]),
+        animate_row("animate --shard bad", &with(ANIMATE, &["--shard", "bad"]), &["--shard", "expected INDEX/COUNT"]),
+        animate_row("animate --shard out of range", &with(ANIMATE, &["--shard", "4/4"]), &["--shard", "shard index 4 is out of range for 4 shards"]),
+        animate_row("animate --fps 0", &with(ANIMATE, &["--fps", "0"]), &["--fps", "fps must be a number in (0, 1000]"]),
+        animate_row("animate --split bogus", &with(ANIMATE, &["--split", "bogus"]), &["--split", "unknown split `bogus`"]),
+        animate_row("animate --video with EXR frames", &with(ANIMATE, &["--format", "exr-half", "--video", "{dir}/v.mp4"]), &["--video", "encoding needs PNG frames"]),
         row("report --runs 0", 2, &["report", "{dir}/s.ron", "--runs", "0", "--quiet", "-o", "{dir}/out"]).valid_inputs().says(&["--runs", "1..=99"]),
         row("report sweep file: bad sample count", 2, &with(REPORT, &["--sweep", "{dir}/w.ron"]))
             .valid_inputs()
