@@ -19,14 +19,11 @@ use penumbra::world::components::WorldAabb;
 /// Meshes above this many triangles are only parsed, not built (keeps each execution fast).
 pub const MAX_BUILT_TRIANGLES: usize = 10_000;
 
-/// An empty folder: `Mesh(file: ...)` references in fuzzed scenes resolve against it and fail.
+/// A folder that does not exist: `Mesh(file: ...)` references in fuzzed scenes resolve against
+/// it and fail cleanly, and nothing is left behind in the temporary folder.
 fn empty_dir() -> &'static PathBuf {
     static DIR: OnceLock<PathBuf> = OnceLock::new();
-    DIR.get_or_init(|| {
-        let dir = std::env::temp_dir().join(format!("penumbra-fuzz-empty-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("create the empty mesh folder");
-        dir
-    })
+    DIR.get_or_init(|| std::env::temp_dir().join("penumbra-fuzz-no-meshes-here"))
 }
 
 /// Every object the World indexes has finite bounds (an accepted value must never overflow the
