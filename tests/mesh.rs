@@ -334,3 +334,29 @@ fn the_cli_renders_both_layouts_alike_and_reports_the_mesh_level() {
     // The layouts differ in bytes, not in work.
     assert_eq!(t["tests_mean"], aos_stats["traversal"]["tests_mean"]);
 }
+
+#[test]
+fn a_scene_without_meshes_reports_plus_zero_mesh_grid_time_and_its_throughput() {
+    let dir = tempfile::tempdir().unwrap();
+    let (png, json) = (dir.path().join("d.png"), dir.path().join("d.json"));
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"))
+        .args(["render", "scenes/default.ron", "--width", "32", "-o"])
+        .arg(&png)
+        .arg("--stats")
+        .arg(&json)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let printed = String::from_utf8_lossy(&out.stdout);
+    assert!(printed.contains("(mesh grids)") && !printed.contains("-0.00"), "{printed}");
+    let stats: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let mesh_grid_build = stats["times"]["mesh_grid_build"].as_f64().unwrap();
+    assert_eq!(mesh_grid_build.to_bits(), 0.0f64.to_bits(), "{mesh_grid_build:?} is not +0.0");
+    // Every ray kind the JSON lists, over the trace time.
+    let rays: u64 = stats["rays"].as_object().unwrap().values().map(|n| n.as_u64().unwrap()).sum();
+    let trace = stats["times"]["trace"].as_f64().unwrap();
+    let mrays = stats["mrays_per_s"].as_f64().expect("the JSON has mrays_per_s");
+    assert!(trace > 0.0 && rays > 0);
+    let expected = rays as f64 / trace / 1e6;
+    assert!((mrays - expected).abs() <= 1e-9 * expected, "{mrays} Mrays/s, expected {expected}");
+}

@@ -66,9 +66,10 @@ impl MeshLibrary {
         self.entries.is_empty()
     }
 
-    /// Seconds spent building the meshes' grids.
+    /// Seconds spent building the meshes' grids: +0.0 for a scene without meshes.
     pub fn grid_build_seconds(&self) -> f64 {
-        self.entries.iter().map(|e| e.asset.build_seconds).sum()
+        // Not `.sum()`: std's float sum starts at -0.0, which prints as "-0.00".
+        self.entries.iter().fold(0.0, |total, e| total + e.asset.build_seconds)
     }
 
     /// Adds an already loaded asset under `(file, smooth)` (for scenes built in code).
@@ -117,5 +118,26 @@ fn resolve(base: &Path, file: &str) -> PathBuf {
         p.to_path_buf()
     } else {
         base.join(p)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::mesh::icosphere;
+
+    #[test]
+    fn a_library_without_meshes_spent_plus_zero_seconds_on_grids() {
+        let seconds = MeshLibrary::default().grid_build_seconds();
+        assert_eq!(seconds.to_bits(), 0.0f64.to_bits(), "{seconds:?} is not +0.0");
+    }
+
+    #[test]
+    fn grid_build_seconds_add_up_over_the_assets() {
+        let mut library = MeshLibrary::default();
+        let asset = Arc::new(MeshAsset::new("ball", icosphere(crate::math::Vec3::ZERO, 1.0, 1), MESH_LAMBDA));
+        library.insert("ball.obj", true, asset.clone());
+        library.insert("ball.obj", false, asset.clone());
+        assert_eq!(library.grid_build_seconds(), 2.0 * asset.build_seconds);
     }
 }

@@ -2,7 +2,8 @@
 
 use std::time::Duration;
 
-use serde::Serialize;
+use serde::ser::SerializeStruct;
+use serde::{Serialize, Serializer};
 
 use super::effects::Effects;
 
@@ -286,8 +287,9 @@ pub struct MeshGridStats {
     pub store_bytes_per_triangle: f64,
 }
 
-/// Statistics of one rendered frame.
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+/// Statistics of one rendered frame. Serializes as its fields plus `mrays_per_s`, the
+/// throughput [`RenderStats::mrays_per_s`] derives from them.
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct RenderStats {
     /// Image width.
     pub width: u32,
@@ -311,6 +313,39 @@ pub struct RenderStats {
     pub grid: GridStats,
     /// Cells visited and primitive tests per ray.
     pub traversal: TraversalStats,
+}
+
+impl Serialize for RenderStats {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        // Destructured so that a new field fails to compile until it is serialized here too.
+        let Self {
+            width,
+            height,
+            threads,
+            rays,
+            adaptive,
+            effects,
+            samples_per_pixel,
+            aov_bytes,
+            times,
+            grid,
+            traversal,
+        } = self;
+        let mut s = serializer.serialize_struct("RenderStats", 12)?;
+        s.serialize_field("width", width)?;
+        s.serialize_field("height", height)?;
+        s.serialize_field("threads", threads)?;
+        s.serialize_field("rays", rays)?;
+        s.serialize_field("mrays_per_s", &self.mrays_per_s())?;
+        s.serialize_field("adaptive", adaptive)?;
+        s.serialize_field("effects", effects)?;
+        s.serialize_field("samples_per_pixel", samples_per_pixel)?;
+        s.serialize_field("aov_bytes", aov_bytes)?;
+        s.serialize_field("times", times)?;
+        s.serialize_field("grid", grid)?;
+        s.serialize_field("traversal", traversal)?;
+        s.end()
+    }
 }
 
 impl RenderStats {
@@ -388,5 +423,31 @@ impl RenderStats {
             t.trace * 1e3,
             t.write * 1e3,
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_json_carries_every_field_and_the_throughput_of_the_trace_time() {
+        let mut stats = RenderStats::default();
+        stats.rays.camera = 3_000_000;
+        stats.rays.shadow = 1_000_000;
+        stats.times.trace = 2.0;
+        let json = serde_json::to_value(&stats).unwrap();
+        assert_eq!(json["mrays_per_s"].as_f64(), Some(2.0));
+        assert_eq!(json["rays"]["camera"], 3_000_000);
+        let keys: Vec<&str> = json.as_object().unwrap().keys().map(String::as_str).collect();
+        for key in ["width", "rays", "adaptive", "effects", "times", "grid", "traversal", "aov_bytes"] {
+            assert!(keys.contains(&key), "{key} missing from {keys:?}");
+        }
+    }
+
+    #[test]
+    fn no_trace_time_is_zero_throughput_not_nan() {
+        let json = serde_json::to_value(RenderStats::default()).unwrap();
+        assert_eq!(json["mrays_per_s"].as_f64(), Some(0.0));
     }
 }
