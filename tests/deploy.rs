@@ -99,3 +99,101 @@ fn the_slurm_script_is_an_array_that_leaves_the_shard_to_the_environment() {
     let run = text.lines().find(|l| l.contains(" animate ")).expect("runs penumbra animate");
     assert!(!run.contains("--shard "), "{run}");
 }
+
+/// Shell words of a command line: whitespace-separated, double quotes grouping (no escapes).
+fn shell_words(line: &str) -> Vec<String> {
+    let (mut words, mut word, mut quoted) = (Vec::new(), None::<String>, false);
+    for c in line.chars() {
+        match c {
+            '"' => {
+                quoted = !quoted;
+                word.get_or_insert_with(String::new);
+            }
+            c if c.is_whitespace() && !quoted => words.extend(word.take()),
+            c => word.get_or_insert_with(String::new).push(c),
+        }
+    }
+    words.extend(word);
+    words
+}
+
+/// A command and the variables it sets inline before `sbatch`.
+type Submission = (String, HashMap<String, String>);
+
+/// Every `sbatch … render.sbatch` command of `text` (the lines of its code blocks and script
+/// comments, and its inline code spans), with the variables it sets inline.
+fn sbatch_submissions(text: &str) -> Vec<Submission> {
+    let mut commands: Vec<&str> = Vec::new();
+    for line in text.lines() {
+        let line = line.trim_start_matches('#').trim();
+        let spans: Vec<&str> = line.split('`').skip(1).step_by(2).collect();
+        commands.extend(if spans.is_empty() { vec![line] } else { spans });
+    }
+    commands
+        .into_iter()
+        .filter(|c| c.contains("sbatch ") && c.contains("render.sbatch"))
+        .map(|command| {
+            let command = command.split(" # ").next().unwrap_or(command).trim();
+            let vars = shell_words(command)
+                .into_iter()
+                .take_while(|w| w != "sbatch")
+                .filter_map(|w| w.split_once('=').map(|(k, v)| (k.to_owned(), v.to_owned())))
+                .collect();
+            (command.to_owned(), vars)
+        })
+        .collect()
+}
+
+/// Asserts that each resubmission sets the `FRAMES` and `OUT` that `first` set, so it renders
+/// the same frames into the same folder.
+fn assert_same_frames_and_out(what: &str, first: &Submission, resubmissions: &[Submission]) {
+    assert!(!resubmissions.is_empty(), "{what}: no resubmission");
+    for key in ["FRAMES", "OUT"] {
+        assert!(first.1.contains_key(key), "{what}: `{}` sets no {key}", first.0);
+        for (command, vars) in resubmissions {
+            assert_eq!(
+                vars.get(key),
+                first.1.get(key),
+                "{what}: `{command}` does not pass {key} as submitted"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_readmes_slurm_resubmissions_pass_the_frames_and_folder_of_the_first_submission() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let start = readme.find("**Slurm.**").expect("the README has a Slurm section");
+    let end = start + readme[start..].find("**Kubernetes.**").unwrap_or(readme.len() - start);
+    let section = &readme[start..end];
+    let submissions = sbatch_submissions(section);
+    assert!(submissions.len() >= 3, "{submissions:?}");
+    assert_same_frames_and_out("README", &submissions[0], &submissions[1..]);
+    // `penumbra status` looks at the folder the frames went to.
+    let out = &submissions[0].1["OUT"];
+    assert!(section.contains(&format!("penumbra status {out}")), "penumbra status is not run on {out}");
+}
+
+#[test]
+fn the_slurm_scripts_resubmission_examples_pass_the_frames_and_folder_of_its_submit_example() {
+    let text = std::fs::read_to_string(root().join("deploy/slurm/render.sbatch")).unwrap();
+    let resubmitting = text.find("# Resubmitting").expect("the script explains resubmission");
+    let submitted = sbatch_submissions(&text[..resubmitting]);
+    let first =
+        submitted.iter().find(|(_, vars)| vars.contains_key("FRAMES")).expect("a submit example with FRAMES");
+    let resubmissions = sbatch_submissions(&text[resubmitting..]);
+    assert!(resubmissions.len() >= 2, "{resubmissions:?}");
+    assert_same_frames_and_out("render.sbatch", first, &resubmissions);
+}
+
+#[test]
+fn shell_words_group_quotes_and_sbatch_submissions_read_inline_variables() {
+    assert_eq!(shell_words(r#"A=1 B="x y" C="" sbatch  z"#), ["A=1", "B=x y", "C=", "sbatch", "z"]);
+    let found =
+        sbatch_submissions("run `A=1 sbatch r.sbatch` or\n```sh\nsbatch x/render.sbatch # again\n```\n");
+    assert_eq!(found, [("sbatch x/render.sbatch".to_owned(), HashMap::new())]);
+    let found = sbatch_submissions("`A=1 EXTRA_ARGS=\"--shard 1/2\" sbatch --array=1 render.sbatch`\n");
+    assert_eq!(found.len(), 1);
+    assert_eq!(found[0].1["A"], "1");
+    assert_eq!(found[0].1["EXTRA_ARGS"], "--shard 1/2");
+}
