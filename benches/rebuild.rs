@@ -2,7 +2,7 @@
 //! cost next to building everything again?
 //!
 //! Scene: 100 instances of the full Stanford bunny (69,451 triangles; from `../shared/models/`,
-//! or the shipped 3,851-triangle `scenes/bunny_res3.obj` when that is absent) on a 10×10 lattice
+//! or the shipped 4,500-triangle `scenes/bunny_res3.obj` when that is absent) on a 10×10 lattice
 //! with random rotations, through the ECS World. Each iteration moves one bunny and runs the
 //! frame schedule: `update_bounds`, `rebuild_grid` (the top level over 100 instances) and
 //! `build_snapshot`. The full rebuild is what the frame would cost if the moved mesh's grid had

@@ -294,7 +294,7 @@ fn objects_naming_the_same_mesh_share_one_asset() {
     let desc = scene::load_scene("scenes/bunny.ron".as_ref()).unwrap();
     // Three bunnies, two ways of shading them: two assets.
     assert_eq!(desc.meshes.len(), 2);
-    assert_eq!(desc.meshes.assets()[0].data.triangle_count(), 3851);
+    assert_eq!(desc.meshes.assets()[0].data.triangle_count(), 4500);
 }
 
 #[test]
@@ -319,7 +319,7 @@ fn the_cli_renders_both_layouts_alike_and_reports_the_mesh_level() {
     assert!(soa == aos, "the layouts render different pixels");
     let meshes = &stats["grid"]["meshes"];
     assert_eq!(meshes["assets"], 2);
-    assert_eq!(meshes["triangles"], 2 * 3851);
+    assert_eq!(meshes["triangles"], 2 * 4500);
     assert!(meshes["grid_bytes_per_triangle"].as_f64().unwrap() > 4.0);
     let t = &stats["traversal"];
     assert_eq!(
@@ -333,6 +333,39 @@ fn the_cli_renders_both_layouts_alike_and_reports_the_mesh_level() {
     assert!(stats["times"]["mesh_grid_build"].as_f64().unwrap() > 0.0);
     // The layouts differ in bytes, not in work.
     assert_eq!(t["tests_mean"], aos_stats["traversal"]["tests_mean"]);
+}
+
+#[test]
+fn the_shipped_bunny_is_a_closed_consistently_oriented_2_manifold() {
+    let mesh = penumbra::scene::obj::load_obj("scenes/bunny_res3.obj".as_ref(), false).unwrap();
+    // Each directed edge appears once and its reverse once: every edge is shared by exactly two
+    // faces, which run along it in opposite directions (no holes, folds or flipped faces).
+    let mut directed = std::collections::HashMap::<(u32, u32), u32>::new();
+    for &[a, b, c] in &mesh.indices {
+        for edge in [(a, b), (b, c), (c, a)] {
+            *directed.entry(edge).or_default() += 1;
+        }
+    }
+    let unmatched =
+        directed.iter().filter(|&(&(a, b), &n)| n != 1 || directed.get(&(b, a)) != Some(&1)).count();
+    assert_eq!(
+        unmatched,
+        0,
+        "{unmatched} of {} directed edges lack exactly one opposite twin",
+        directed.len()
+    );
+    // One closed genus-0 surface (V - E + F = 2), wound counter-clockwise seen from outside.
+    let (v, e, f) = (mesh.positions.len() as i64, directed.len() as i64 / 2, mesh.indices.len() as i64);
+    assert_eq!(v - e + f, 2);
+    let volume: f32 = mesh
+        .indices
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
+            a.dot(b.cross(c)) / 6.0
+        })
+        .sum();
+    assert!(volume > 0.0, "signed volume {volume}");
 }
 
 #[test]

@@ -61,7 +61,7 @@ pub enum ObjError {
 /// ```
 /// # use penumbra::scene::obj::load_obj;
 /// let bunny = load_obj("scenes/bunny_res3.obj".as_ref(), true)?;
-/// assert_eq!(bunny.triangle_count(), 3851);
+/// assert_eq!(bunny.triangle_count(), 4500);
 /// assert_eq!(bunny.normals.len(), bunny.positions.len());
 /// # Ok::<(), penumbra::scene::obj::ObjError>(())
 /// ```
@@ -714,11 +714,11 @@ mod tests {
     fn the_shipped_bunny_loads_with_its_documented_counts_and_bounds() {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bunny_res3.obj");
         let mesh = load_obj(&path, true).unwrap();
-        assert_eq!(mesh.triangle_count(), 3851);
-        // 1,889 vertices in the file, 2 of them used by no face.
-        assert_eq!(mesh.positions.len(), 1887);
-        assert!(mesh.bounds.min.abs_diff_eq(Vec3::new(-0.0943643, 0.0334143, -0.0616721), 1e-7));
-        assert!(mesh.bounds.max.abs_diff_eq(Vec3::new(0.0609346, 0.184813, 0.0584651), 1e-7));
+        assert_eq!(mesh.triangle_count(), 4500);
+        // 2,252 vertices in the file, every one used by a face.
+        assert_eq!(mesh.positions.len(), 2252);
+        assert!(mesh.bounds.min.abs_diff_eq(Vec3::new(-0.0948195, 0.0330468, -0.0619582), 1e-7));
+        assert!(mesh.bounds.max.abs_diff_eq(Vec3::new(0.0610694, 0.187209, 0.0588118), 1e-7));
         assert!(mesh.normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-5));
         // Counter-clockwise from outside: positive signed volume.
         let volume: f32 = mesh
@@ -730,15 +730,15 @@ mod tests {
             })
             .sum();
         assert!(volume > 0.0);
-        // Smooth normals agree with the faces around them, all but the corners at this crude
-        // decimation's folds and non-manifold edges (97.7% agree; 99.996% on the full bunny).
+        // Smooth normals agree with the faces around them: all but a corner or two of this closed
+        // decimation (Stanford's own res3, with its folds, managed 97.7%; the full bunny 99.996%).
         let mut agree = 0;
         for t in &mesh.indices {
             let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
             let face = (b - a).cross(c - a);
             agree += t.iter().filter(|&&i| mesh.normals[i as usize].dot(face) > 0.0).count();
         }
-        assert!(agree * 100 > 3 * mesh.triangle_count() * 97, "{agree} of {}", 3 * mesh.triangle_count());
+        assert!(agree * 1000 > 3 * mesh.triangle_count() * 999, "{agree} of {}", 3 * mesh.triangle_count());
         assert_eq!(mesh, load_obj(&path, true).unwrap(), "loading is deterministic");
     }
 
