@@ -490,3 +490,169 @@ fn an_animation_needs_a_frame_function() {
     assert_eq!(e.kind, ErrorKind::MissingFunction);
     assert!(e.to_string().contains("fn frame(t)"), "{e}");
 }
+
+/// The text of a script error's message, checked for Rhai's internal wording.
+fn plain(e: &ScriptError) -> &str {
+    for internal in ["registered", "getter", "setter", "Expression cannot be assigned"] {
+        assert!(!e.message.contains(internal), "Rhai's internals leak into the message: {e}");
+    }
+    &e.message
+}
+
+#[test]
+fn an_unknown_property_names_the_object_suggests_the_closest_and_lists_them() {
+    let cases = [
+        // (statement, what the message must hold), each at line 2.
+        (
+            "camera.positon = vec3(0, 2, -6)",
+            "camera has no property `positon`; did you mean `position`? camera has: position, look_at, up, \
+             fov, aperture, focus_distance; methods: focus_on(name)",
+        ),
+        ("let f = camera.fvo", "camera has no property `fvo`; did you mean `fov`?"),
+        (
+            "settings.sample = 4",
+            "settings has no property `sample`; did you mean `samples`? settings has: samples,",
+        ),
+        (
+            "let b = entity(\"ball\"); b.color = vec3(1, 0, 0)",
+            "entity has no property `color`; did you mean `colour`?",
+        ),
+        (
+            "let b = entity(\"ball\"); b.weight = 3",
+            "entity has no property `weight`; entity has: position, rotation,",
+        ),
+        ("let b = entity(\"ball\"); b.centre = vec3(0, 0, 0)", "entity.centre can be read but not written;"),
+        ("let v = vec3(1, 2, 3); v.w = 4", "vec3 has no property `w`; vec3 has: x, y, z"),
+        ("camera.position = 5", "camera.position must be a vec3, e.g. vec3(0, 1, 2), got i64"),
+    ];
+    for (statement, message) in cases {
+        let source = format!("fn frame(t) {{\n    {statement};\n}}\n");
+        let e = frame_error(&source, Limits::default());
+        assert_eq!((e.kind.clone(), e.line), (ErrorKind::Runtime, Some(2)), "{statement}: {e}");
+        assert!(e.column.is_some(), "{e}");
+        assert!(plain(&e).contains(message), "{statement}: expected `{message}` in {e}");
+        assert!(e.to_string().starts_with("test.rhai:2:"), "{e}");
+    }
+}
+
+#[test]
+fn assigning_to_a_property_of_an_entity_call_shows_how_to_write_it() {
+    let source = "fn frame(t) {\n    entity(\"ball\").kd = vec3(0.1, 0.8, 0.1);\n}\n";
+    let e = compile(source).err().expect("Rhai cannot assign to a call's property");
+    assert_eq!((e.kind.clone(), e.line), (ErrorKind::Syntax, Some(2)), "{e}");
+    let wanted = "let ball = entity(\"ball\"); ball.kd = …;";
+    assert!(plain(&e).contains("`entity(\"ball\").kd` cannot be assigned to directly"), "{e}");
+    assert!(e.message.contains(wanted), "{e}");
+
+    // What the message says to write works.
+    let fixed = format!("fn frame(t) {{\n    {}\n}}\n", wanted.replace('…', "vec3(0.1, 0.8, 0.1)"));
+    let mut world = scripted(&fixed);
+    world.setup().and_then(|_| world.frame(Clock::at(0, 24.0))).unwrap_or_else(|e| panic!("{fixed}: {e}"));
+    let kd = world
+        .state_snapshot()
+        .entities
+        .iter()
+        .find(|e| e.name == "ball")
+        .unwrap()
+        .material
+        .unwrap()
+        .params
+        .kd;
+    assert_eq!(kd, glam::DVec3::new(0.1, 0.8, 0.1));
+
+    // A name that is no identifier gets a plain variable; other expressions get the general rule.
+    let e = compile("fn frame(t) {\n    entity(\"red ball\").visible = false;\n}\n").err().unwrap();
+    assert!(e.message.contains("let e = entity(\"red ball\"); e.visible = …;"), "{e}");
+    let e = compile("fn frame(t) {\n    vec3(1, 2, 3).x = 4;\n}\n").err().unwrap();
+    assert!(plain(&e).contains("only a variable or a variable's property can be"), "{e}");
+}
+
+/// Renders frame `n` of `source` over `scene` (frames before it run the script only).
+fn frame_of(scene: &SceneDesc, source: &str, n: u32) -> Film {
+    let script = compile(source).expect("compiles");
+    let mut animation: Animation = Animation::new(scene, &script, 24.0).unwrap_or_else(|e| panic!("{e}"));
+    let snapshot = animation.step_to(n).unwrap_or_else(|e| panic!("{e}"));
+    render(&snapshot, &animation.world().world().render_settings()).0
+}
+
+#[test]
+fn a_script_animates_a_lights_colour_and_intensity_as_the_scene_file_would_set_them() {
+    // The test scene's key light is white at intensity 0.9; the script reads that, then turns
+    // it red-orange and brighter from frame 1 and switches the sun off at frame 2.
+    let source = r#"
+        fn frame(t) {
+            let key = entity("light_0");
+            let sun = entity("light_1");
+            if frame_number() == 0 {
+                if key.colour != vec3(1, 1, 1) || abs(key.intensity - 0.9) > 1e-6 || abs(sun.intensity - 0.2) > 1e-6 {
+                    throw `the lights read ${key.colour} × ${key.intensity} and ${sun.intensity}`;
+                }
+            }
+            if frame_number() >= 1 { key.colour = vec3(1, 0.25, 0.5); key.intensity = 1.5; }
+            if frame_number() >= 2 { sun.intensity = 0; }
+        }
+    "#;
+    let lit = |key: &str, sun: &str| {
+        let text = SCENE
+            .replace("Point(position: (-3, 6, -4), intensity: 0.9)", key)
+            .replace("Directional(direction: (1, -1, 1), intensity: 0.2)", sun);
+        assert_ne!(text, SCENE);
+        scene::parse_scene(&text, "lit.ron").unwrap()
+    };
+    let key = "Point(position: (-3, 6, -4), colour: (1, 0.25, 0.5), intensity: 1.5)";
+    let sun = "Directional(direction: (1, -1, 1), intensity: 0.2)";
+    let off = "Directional(direction: (1, -1, 1), intensity: 0)";
+    let frames: Vec<Film> = (0..3).map(|n| frame_of(&desc(), source, n)).collect();
+    assert_ne!(frames[0].pixels, frames[1].pixels, "the light changed");
+    assert_ne!(frames[1].pixels, frames[2].pixels, "the sun went out");
+    // Each frame is the frame the scene file with those lights makes.
+    let still = "fn frame(t) { }";
+    assert_eq!(frames[0].pixels, frame_of(&desc(), still, 0).pixels);
+    assert_eq!(frames[1].pixels, frame_of(&lit(key, sun), still, 1).pixels);
+    assert_eq!(frames[2].pixels, frame_of(&lit(key, off), still, 2).pixels);
+}
+
+#[test]
+fn bad_light_values_break_the_scene_files_rules_at_the_scripts_line() {
+    let cases = [
+        ("key.intensity = -2", "Point(position: (-3, 6, -4), intensity: -2)"),
+        ("key.colour = vec3(1, -0.5, 0)", "Point(position: (-3, 6, -4), colour: (1, -0.5, 0))"),
+    ];
+    for (statement, light) in cases {
+        let text = SCENE.replace("Point(position: (-3, 6, -4), intensity: 0.9)", light);
+        let rule = match scene::parse_scene(&text, "bad.ron") {
+            Err(scene::SceneError::Invalid { rule, .. }) => rule,
+            other => panic!("{light}: the scene must be refused, got {other:?}"),
+        };
+        let field = statement.split(['.', ' ']).nth(1).unwrap();
+        let source = format!("fn frame(t) {{\n    let key = entity(\"light_0\");\n    {statement};\n}}\n");
+        let e = frame_error(&source, Limits::default());
+        assert_eq!((e.kind.clone(), e.line), (ErrorKind::Runtime, Some(3)), "{statement}: {e}");
+        let expected = format!("entity `light_0`: {field} {rule}");
+        assert!(e.message.contains(&expected), "{statement}: expected `{expected}` in {e}");
+    }
+    let e = frame_error(
+        "fn frame(t) {\n    let b = entity(\"ball\");\n    b.intensity = 2;\n}\n",
+        Limits::default(),
+    );
+    assert!(e.message.contains("entity `ball` is an object: it has no intensity"), "{e}");
+    let e = frame_error(
+        "fn frame(t) {\n    let key = entity(\"light_0\");\n    key.colour = 0.5;\n}\n",
+        Limits::default(),
+    );
+    assert!(e.message.contains("entity `light_0`: colour must be a vec3"), "{e}");
+}
+
+#[test]
+fn an_error_in_a_replayed_frame_still_stops_the_run() {
+    // Frames replayed to reach a later one run with their output muted, not their errors.
+    let source = "fn frame(t) {\n    if frame_number() < 3 { throw `replayed ${frame_number()}`; }\n}\n";
+    let script = compile(source).unwrap();
+    let mut animation: Animation = Animation::new(&desc(), &script, 24.0).unwrap();
+    let e = animation.step_to(3).expect_err("frames 0..3 throw");
+    assert_eq!(
+        e.context.as_deref(),
+        Some("frame(0) at frame 0"),
+        "errors of replayed frames still stop the run"
+    );
+}

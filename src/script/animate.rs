@@ -4,6 +4,10 @@
 //! order (frames before the first rendered one run the script only: no grid, no render), so
 //! frame `n` is the same image whether the range starts at 0 or at `n`, on one machine or
 //! split across many.
+//!
+//! The script's `print` and `debug` output is shown for `setup()` and for each frame that is
+//! rendered, and dropped for the frames run only to reach a later one, so a `print` in
+//! `frame(t)` shows once per rendered frame however the range starts or steps.
 
 use std::fmt;
 use std::str::FromStr;
@@ -13,7 +17,7 @@ use std::time::Instant;
 use super::error::ScriptError;
 use super::runtime::{Script, ScriptedWorld};
 use super::state::Clock;
-use crate::scene::{spawn_world, SceneDesc};
+use crate::scene::SceneDesc;
 use crate::store::{PrimitiveStore, SoaStore};
 use crate::trace::TraceScene;
 
@@ -95,18 +99,22 @@ impl<S: PrimitiveStore + 'static> Animation<S> {
     /// Spawns `desc`, attaches `script` (which must define `fn frame(t)`) and runs `setup()`.
     pub fn new(desc: &SceneDesc, script: &Script, fps: f64) -> Result<Self, ScriptError> {
         script.require("frame", 1, "`animate` calls once per frame with the time in seconds")?;
-        let mut world = ScriptedWorld::new(spawn_world::<S>(desc), script);
+        let mut world = ScriptedWorld::from_scene(desc, script);
         world.setup()?;
         Ok(Self { world, fps, next: 0, timing: (0.0, 0.0) })
     }
 
-    /// Runs the script up to `frame` (each frame not yet run, in order), applies its writes
-    /// and returns the frame's snapshot. Frames must be asked for in increasing order.
+    /// Runs the script up to `frame` (each frame not yet run, in order, with output shown only
+    /// for `frame` itself), applies its writes and returns the frame's snapshot. Frames must be
+    /// asked for in increasing order.
     pub fn step_to(&mut self, frame: u32) -> Result<Arc<TraceScene<S>>, ScriptError> {
         assert!(frame + 1 >= self.next, "frames run in order: frame {frame} asked for after {}", self.next);
         let started = Instant::now();
         while self.next <= frame {
-            self.world.frame(Clock::at(self.next, self.fps))?;
+            self.world.mute_output(self.next < frame);
+            let ran = self.world.frame(Clock::at(self.next, self.fps));
+            self.world.mute_output(false);
+            ran?;
             self.next += 1;
         }
         let script = started.elapsed().as_secs_f64();

@@ -1,7 +1,7 @@
 //! The sandboxed Rhai engine: the language's core packages without clocks, sleeping or
 //! module loading, and limits on everything a script could grow without bound.
 
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -58,8 +58,8 @@ impl Default for Limits {
     }
 }
 
-/// What the engine's callbacks watch during a host call: the wall-clock deadline, and the
-/// position of the statement being run.
+/// What the engine's callbacks watch during a host call: the wall-clock deadline, the
+/// position of the statement being run, and whether `print` and `debug` output is shown.
 ///
 /// Rhai reports a broken limit at the outermost call, not where it happened (it unwinds
 /// limit errors through every call level), so the engine's debugger hook records each
@@ -72,6 +72,8 @@ pub struct Watch {
     limit: Duration,
     /// Line (high 32 bits) and column of the statement running; 0 before the first.
     statement: Arc<AtomicU64>,
+    /// `print` and `debug` output is dropped (frames replayed only to reach a later one).
+    muted: Arc<AtomicBool>,
 }
 
 impl Watch {
@@ -81,7 +83,17 @@ impl Watch {
             deadline: Arc::new(AtomicU64::new(u64::MAX)),
             limit,
             statement: Arc::new(AtomicU64::new(0)),
+            muted: Arc::new(AtomicBool::new(false)),
         }
+    }
+
+    /// Drops (`true`) or shows (`false`) the script's `print` and `debug` output from now on.
+    pub fn mute(&self, muted: bool) {
+        self.muted.store(muted, Ordering::Relaxed);
+    }
+
+    fn muted(&self) -> bool {
+        self.muted.load(Ordering::Relaxed)
     }
 
     /// Starts watching a host call: its clock and its statements.
@@ -114,7 +126,7 @@ impl Watch {
 const CLOCK_EVERY: u64 = 1 << 14;
 
 /// A sandboxed engine with `limits`; `file` names the script in `print` and `debug` output,
-/// which goes to standard error.
+/// which goes to standard error unless the returned [`Watch`] is muted.
 pub fn sandboxed(limits: &Limits, file: &str) -> (Engine, Watch) {
     let mut engine = Engine::new_raw();
     // The standard library minus the time package (clocks make frames irreproducible) and
@@ -164,11 +176,18 @@ pub fn sandboxed(limits: &Limits, file: &str) -> (Engine, Watch) {
         },
     );
     let name = file.to_owned();
-    engine.on_print(move |text| eprintln!("{name}: {text}"));
+    let output = watch.clone();
+    engine.on_print(move |text| {
+        if !output.muted() {
+            eprintln!("{name}: {text}");
+        }
+    });
     let name = file.to_owned();
-    engine.on_debug(move |text, _, pos| match (pos.line(), pos.position()) {
-        (Some(line), Some(column)) => eprintln!("{name}:{line}:{column}: {text}"),
-        _ => eprintln!("{name}: {text}"),
+    let output = watch.clone();
+    engine.on_debug(move |text, _, pos| match (output.muted(), pos.line(), pos.position()) {
+        (true, ..) => {}
+        (false, Some(line), Some(column)) => eprintln!("{name}:{line}:{column}: {text}"),
+        (false, ..) => eprintln!("{name}: {text}"),
     });
     (engine, watch)
 }

@@ -1,10 +1,14 @@
 //! Script errors: every failure names the script file, the line and column, and what went
-//! wrong; a broken sandbox limit names the limit and its value.
+//! wrong; a broken sandbox limit names the limit and its value. Rhai's own wording is
+//! translated where it would talk about its internals: an unknown property names the object,
+//! suggests the closest property and lists them ([`Properties`]); assigning to a property of a
+//! call (`entity("ball").kd = …`) shows how to write it instead.
 
 use std::fmt;
 
 use rhai::{EvalAltResult, ParseError, ParseErrorType, Position};
 
+use super::api::properties::Properties;
 use super::engine::Limits;
 
 /// A sandbox limit a script ran into.
@@ -144,6 +148,22 @@ impl ScriptError {
         self
     }
 
+    /// A parse failure of `source`: as [`Self::from_parse`], with an assignment to a property
+    /// of a call explained from the text it quotes.
+    pub fn from_parse_of(file: &str, error: &ParseError, limits: &Limits, source: &str) -> Self {
+        let ParseError(kind, position) = error;
+        match kind.as_ref() {
+            ParseErrorType::AssignmentToInvalidLHS(text) if text.is_empty() => {
+                let line = position.line().and_then(|l| source.lines().nth(l - 1));
+                let at = line.zip(position.position()).and_then(|(line, column)| {
+                    line.char_indices().nth(column - 1).map(|(byte, _)| &line[byte..])
+                });
+                Self::new(file, ErrorKind::Syntax, invalid_assignment(at.unwrap_or(""))).at(*position)
+            }
+            _ => Self::from_parse(file, error, limits),
+        }
+    }
+
     /// A parse failure.
     pub fn from_parse(file: &str, error: &ParseError, limits: &Limits) -> Self {
         let ParseError(kind, position) = error;
@@ -195,14 +215,66 @@ impl ScriptError {
             ),
             (None, EvalAltResult::ErrorRuntime(value, _)) => (ErrorKind::Runtime, value.to_string()),
             (None, other) => {
+                let translated = match other {
+                    EvalAltResult::ErrorDotExpr(text, _) => property_error(text),
+                    _ => None,
+                };
                 // Rhai's text ends with the position, which the error carries separately.
                 let text = other.to_string();
                 let suffix = format!(" ({position})");
-                (ErrorKind::Runtime, text.strip_suffix(&suffix).unwrap_or(&text).to_owned())
+                let message =
+                    translated.unwrap_or_else(|| text.strip_suffix(&suffix).unwrap_or(&text).to_owned());
+                (ErrorKind::Runtime, message)
             }
         };
         Self::new(file, kind, message).at(position)
     }
+}
+
+/// What to write instead of an assignment Rhai cannot make; `at` is the source from the
+/// assigned expression on (`entity("ball").kd = …`).
+fn invalid_assignment(at: &str) -> String {
+    let call = at.starts_with("entity(").then(|| at.find(')')).flatten().map(|end| &at[..=end]);
+    let Some(call) = call else {
+        return "this expression cannot be assigned to: only a variable or a variable's property can \
+                be (`x = …`, `x.position = …`); put the value in a variable first"
+            .into();
+    };
+    let property: String = at[call.len()..]
+        .strip_prefix('.')
+        .unwrap_or("")
+        .chars()
+        .take_while(|c| c.is_alphanumeric() || *c == '_')
+        .collect();
+    let name = call["entity(".len()..call.len() - 1].trim().trim_matches('"');
+    let variable = match name.chars().next().is_some_and(|c| c.is_alphabetic() || c == '_')
+        && name.chars().all(|c| c.is_alphanumeric() || c == '_')
+    {
+        true => name.to_owned(),
+        false => "e".to_owned(),
+    };
+    let property = if property.is_empty() { "position".to_owned() } else { property };
+    format!(
+        "`{call}.{property}` cannot be assigned to directly: Rhai writes only to a variable's \
+         properties; write `let {variable} = {call}; {variable}.{property} = …;`"
+    )
+}
+
+/// Our message for Rhai's "Unknown property 'p' - a getter is not registered for type 't'"
+/// and "No writable property 'p' - a setter is not registered for type 't' to handle 'u'",
+/// when `t` is a script type with known properties.
+fn property_error(text: &str) -> Option<String> {
+    let quoted = |from: &str| -> Option<&str> {
+        let rest = &text[text.find(from)? + from.len()..];
+        Some(&rest[..rest.find('\'')?])
+    };
+    let property = quoted("property '")?;
+    let properties = Properties::of(quoted("for type '")?)?;
+    let setting = text.starts_with("No writable property");
+    Some(match setting && properties.read_only.contains(&property) {
+        true => properties.read_only(property),
+        false => properties.unknown(property),
+    })
 }
 
 /// The size limit a Rhai "too large" message refers to.

@@ -16,7 +16,7 @@ use super::api;
 use super::engine::{sandboxed, Limits, Watch};
 use super::error::{ErrorKind, ScriptError};
 use super::state::{apply_script_writes, Clock, ScriptState, SharedState};
-use crate::scene::validate;
+use crate::scene::{spawn_world, validate, SceneDesc};
 use crate::store::{PrimitiveStore, SoaStore};
 use crate::trace::TraceScene;
 use crate::world::SceneWorld;
@@ -42,7 +42,8 @@ impl Script {
     /// Compiles `source`; `file` names it in errors.
     pub fn from_source(file: &str, source: &str, limits: Limits) -> Result<Self, ScriptError> {
         let (engine, _) = sandboxed(&limits, file);
-        let ast = engine.compile(source).map_err(|e| ScriptError::from_parse(file, &e, &limits))?;
+        let ast =
+            engine.compile(source).map_err(|e| ScriptError::from_parse_of(file, &e, &limits, source))?;
         Ok(Self { file: file.to_owned(), source: source.into(), ast, limits })
     }
 
@@ -144,8 +145,18 @@ pub struct ScriptedWorld<S: PrimitiveStore + 'static = SoaStore> {
 }
 
 impl<S: PrimitiveStore + 'static> ScriptedWorld<S> {
+    /// Spawns `desc` and attaches `script` as [`Self::new`] does; lights read their `colour`
+    /// and `intensity` as the scene gives them.
+    pub fn from_scene(desc: &SceneDesc, script: &Script) -> Self {
+        let world = Self::new(spawn_world::<S>(desc), script);
+        world.state().lock().adopt_light_terms(&desc.lights);
+        world
+    }
+
     /// Attaches `script` to `world`: mirrors the World for the script, builds the sandboxed
-    /// engine with the API, and adds the system that applies the script's writes.
+    /// engine with the API, and adds the system that applies the script's writes. The World
+    /// keeps only each light's radiance, so a light reads as `colour` = radiance and
+    /// `intensity` = 1 (use [`Self::from_scene`] to read them as the scene gives them).
     pub fn new(mut world: SceneWorld<S>, script: &Script) -> Self {
         let state = SharedState(Arc::new(std::sync::Mutex::new(ScriptState::from_world(world.world_mut()))));
         let (mut engine, watch) = sandboxed(&script.limits, &script.file);
@@ -245,6 +256,12 @@ impl<S: PrimitiveStore + 'static> ScriptedWorld<S> {
             })?;
         }
         rt.check(&context)
+    }
+
+    /// Drops (`true`) or shows (`false`) the script's `print` and `debug` output from now on
+    /// (shown by default); [`super::Animation`] mutes the frames it replays without rendering.
+    pub fn mute_output(&mut self, muted: bool) {
+        self.runtime().watch.mute(muted);
     }
 
     /// Applies the script's writes and runs the frame schedule; returns the snapshot.

@@ -16,6 +16,7 @@ use glam::{DVec3, EulerRot, Quat, Vec3};
 use crate::geom;
 use crate::math::Affine3A;
 use crate::sample::adaptive::AdaptiveSettings;
+use crate::scene::format::LightDesc;
 use crate::store::MaterialId;
 use crate::trace::{self, Material};
 use crate::world::components::{Light, MaterialRef, Name, Shape, Transform, Visible};
@@ -177,6 +178,8 @@ pub struct EntityState {
     pub visible: bool,
     /// Its material parameters (objects).
     pub material: Option<MaterialState>,
+    /// Its colour and intensity (lights).
+    pub light: Option<LightTerms>,
     /// Position or scale written since the last apply.
     pub transform_dirty: bool,
     /// Rotation written at least once (until then the World's rotation is kept as is).
@@ -185,6 +188,18 @@ pub struct EntityState {
     pub visible_dirty: bool,
     /// Material written since the last apply.
     pub material_dirty: bool,
+    /// Light colour or intensity written since the last apply.
+    pub light_dirty: bool,
+}
+
+/// A light's colour and intensity, as the scene format has them (the World keeps only their
+/// product, the radiance).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LightTerms {
+    /// Linear RGB colour.
+    pub colour: DVec3,
+    /// Scale of the colour.
+    pub intensity: f64,
 }
 
 /// An object's material parameters, and its private copy once a script has changed them.
@@ -280,6 +295,28 @@ fn light_position(light: &trace::Light) -> Option<Vec3> {
     }
 }
 
+/// The light's radiance (colour × intensity).
+fn light_radiance(light: &trace::Light) -> Vec3 {
+    match *light {
+        trace::Light::Point { radiance, .. }
+        | trace::Light::Directional { radiance, .. }
+        | trace::Light::Rect { radiance, .. }
+        | trace::Light::Disk { radiance, .. } => radiance,
+    }
+}
+
+/// The light with its radiance set to `to`.
+fn relit(light: &trace::Light, to: Vec3) -> trace::Light {
+    let mut relit = *light;
+    match &mut relit {
+        trace::Light::Point { radiance, .. }
+        | trace::Light::Directional { radiance, .. }
+        | trace::Light::Rect { radiance, .. }
+        | trace::Light::Disk { radiance, .. } => *radiance = to,
+    }
+    relit
+}
+
 /// The light moved so that its position (as [`light_position`] defines it) is `to`.
 fn moved_light(light: &trace::Light, to: Vec3) -> trace::Light {
     let mut moved = *light;
@@ -339,10 +376,12 @@ impl ScriptState {
                 scale: DVec3::ONE,
                 visible,
                 material: None,
+                light: None,
                 transform_dirty: false,
                 rotation_written: false,
                 visible_dirty: false,
                 material_dirty: false,
+                light_dirty: false,
             };
             if let (Some(shape), Some(t)) = (e.get::<Shape>(), e.get::<Transform>()) {
                 let pivot = match &shape.0 {
@@ -365,6 +404,9 @@ impl ScriptState {
                 let position = light_position(&light.0);
                 entry.kind = EntityKind::Light { positioned: position.is_some() };
                 entry.position = position.map_or(DVec3::ZERO, Vec3::as_dvec3);
+                // The World keeps only the product; `adopt_light_terms` restores the file's split.
+                entry.light =
+                    Some(LightTerms { colour: light_radiance(&light.0).as_dvec3(), intensity: 1.0 });
             } else {
                 continue;
             }
@@ -372,6 +414,25 @@ impl ScriptState {
             state.entities.push(entry);
         }
         state
+    }
+
+    /// Takes each light's colour and intensity from the scene it was spawned from (`lights[i]`
+    /// is the entity `light_i`), where the World's radiance still equals their product; without
+    /// this a light reads as its radiance with intensity 1.
+    pub fn adopt_light_terms(&mut self, lights: &[LightDesc]) {
+        for (i, desc) in lights.iter().enumerate() {
+            let Some(index) = self.index_of(&format!("light_{i}")) else { continue };
+            let entry = &mut self.entities[index];
+            let (colour, intensity) = match *desc {
+                LightDesc::Point { colour, intensity, .. }
+                | LightDesc::Directional { colour, intensity, .. }
+                | LightDesc::Rect { colour, intensity, .. }
+                | LightDesc::Disk { colour, intensity, .. } => (colour, intensity),
+            };
+            if let Some(terms) = entry.light.as_mut().filter(|t| t.colour.as_vec3() == colour * intensity) {
+                *terms = LightTerms { colour: colour.as_dvec3(), intensity: intensity as f64 };
+            }
+        }
     }
 
     /// The entity called `name`.
@@ -457,27 +518,32 @@ pub fn apply_script_writes(
     state.settings_dirty = false;
 
     for entry in state.entities.iter_mut() {
-        if !(entry.transform_dirty || entry.visible_dirty || entry.material_dirty) {
+        if !(entry.transform_dirty || entry.visible_dirty || entry.material_dirty || entry.light_dirty) {
             continue;
         }
         let Ok((transform, visible, material_ref, light)) = objects.get_mut(entry.entity) else {
             continue;
         };
-        if entry.transform_dirty {
-            if let Some(mut transform) = transform {
-                let rotation = match entry.rotation_written {
-                    true => rotation_from_degrees(entry.rotation_deg),
-                    false => transform.rotation,
-                };
-                transform.set_if_neq(Transform {
-                    translation: entry.position.as_vec3(),
-                    rotation,
-                    scale: entry.scale.as_vec3(),
-                });
-            } else if let Some(mut light) = light {
-                let moved = moved_light(&light.0, entry.position.as_vec3());
-                light.set_if_neq(Light(moved));
+        if let (true, Some(mut transform)) = (entry.transform_dirty, transform) {
+            let rotation = match entry.rotation_written {
+                true => rotation_from_degrees(entry.rotation_deg),
+                false => transform.rotation,
+            };
+            transform.set_if_neq(Transform {
+                translation: entry.position.as_vec3(),
+                rotation,
+                scale: entry.scale.as_vec3(),
+            });
+        }
+        if let (true, Some(mut light)) = (entry.transform_dirty || entry.light_dirty, light) {
+            let mut next = light.0;
+            if entry.transform_dirty {
+                next = moved_light(&next, entry.position.as_vec3());
             }
+            if let (true, Some(terms)) = (entry.light_dirty, entry.light) {
+                next = relit(&next, (terms.colour * terms.intensity).as_vec3());
+            }
+            light.set_if_neq(Light(next));
         }
         if entry.visible_dirty {
             if let Some(mut visible) = visible {
@@ -492,6 +558,7 @@ pub fn apply_script_writes(
         entry.transform_dirty = false;
         entry.visible_dirty = false;
         entry.material_dirty = false;
+        entry.light_dirty = false;
     }
 }
 

@@ -35,6 +35,14 @@ pub fn type_name(value: &Dynamic) -> &'static str {
     }
 }
 
+/// `value` as a vector, named `what` in the error.
+pub fn vector(value: &Dynamic, what: &str) -> ScriptResult<DVec3> {
+    match value.clone().try_cast::<DVec3>() {
+        Some(v) => Ok(v),
+        None => error(format!("{what} must be a vec3, e.g. vec3(0, 1, 2), got {}", type_name(value))),
+    }
+}
+
 /// `value` as a float: an integer or a float, named `what` in the error.
 pub fn number(value: &Dynamic, what: &str) -> ScriptResult<f64> {
     if let Ok(f) = value.as_float() {

@@ -1,10 +1,11 @@
 //! The API scripts see, registered into a sandboxed engine: vectors and animation helpers
-//! (`math`, `path`), the scene (`scene`: camera, entities, settings, the clock) and sweep
-//! helpers (`sweep`).
+//! (`math`, `path`), the scene (`scene`: camera, entities, settings, the clock), sweep
+//! helpers (`sweep`) and the property names of each type (`properties`), for error messages.
 
 pub mod convert;
 pub mod math;
 pub mod path;
+pub mod properties;
 pub mod scene;
 pub mod sweep;
 

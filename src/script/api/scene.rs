@@ -2,19 +2,24 @@
 //! name (`entity("ball")`) and the clock (`frame_number()`, `time()`, `fps()`).
 //!
 //! Each is a handle onto the shared mirror ([`SharedState`]); property reads and writes go
-//! straight to it, so `let ball = entity("ball"); ball.position = p;` moves the ball and
-//! `camera.fov = 30` narrows the view. Every write is checked against the scene format's own rules and fails with
-//! the rule it broke, e.g. ``entity `ball`: kd must be in [0, 1] in every channel, got g = 1.2``.
+//! straight to it, so `let ball = entity("ball"); ball.position = p;` moves the ball,
+//! `camera.fov = 30` narrows the view and `let key = entity("light_0"); key.intensity = 0.5;`
+//! dims the first light. Every write is checked against the scene format's own rules and
+//! fails with the rule it broke, e.g. ``entity `ball`: kd must be in [0, 1] in every channel,
+//! got g = 1.2``. The property names are listed in [`super::properties`].
 
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 use rhai::{Array, Dynamic, Engine, ImmutableString, Module, FLOAT, INT};
 
-use super::convert::{error, finite, integer, ScriptResult};
-use crate::scene::format::{CameraDesc, MaterialDesc, SamplingDesc};
+use super::convert::{error, finite, integer, vector, ScriptResult};
+use super::properties::closest;
+use crate::scene::format::{CameraDesc, LightDesc, MaterialDesc, SamplingDesc, SceneDesc, SettingsDesc};
 use crate::scene::validate::{
     self, coordinate_rule, MAX_ADAPTIVE_DEPTH, MAX_COORDINATE, MAX_DEPTH, MAX_IMAGE_SIZE, MAX_SAMPLES,
 };
-use crate::script::state::{EntityKind, EntityState, FocusState, MaterialParams, ScriptState, SharedState};
+use crate::script::state::{
+    EntityKind, EntityState, FocusState, LightTerms, MaterialParams, ScriptState, SharedState,
+};
 
 /// Camera properties a sweep parameter may name.
 pub const CAMERA_PROPERTIES: &[&str] = &["position", "look_at", "up", "fov", "aperture", "focus_distance"];
@@ -93,8 +98,9 @@ fn register_camera(engine: &mut Engine) {
     macro_rules! vec_property {
         ($name:literal, $field:ident) => {
             engine.register_get($name, |c: &mut CameraHandle| c.0.lock().camera.$field);
-            engine.register_set($name, |c: &mut CameraHandle, v: DVec3| -> ScriptResult<()> {
-                let v = coordinate_vec(v, concat!("camera.", $name))?;
+            engine.register_set($name, |c: &mut CameraHandle, v: Dynamic| -> ScriptResult<()> {
+                let what = concat!("camera.", $name);
+                let v = coordinate_vec(vector(&v, what)?, what)?;
                 let mut s = c.0.lock();
                 s.camera.$field = v;
                 s.camera_dirty = true;
@@ -142,9 +148,9 @@ fn register_camera(engine: &mut Engine) {
     });
 }
 
-/// Checks one camera field against the scene format's rules, on an otherwise valid camera.
-fn check_camera_field(set: impl FnOnce(&mut CameraDesc)) -> ScriptResult<()> {
-    let mut desc = CameraDesc {
+/// A camera the scene format accepts, to check one field against with the others valid.
+fn valid_camera_desc() -> CameraDesc {
+    CameraDesc {
         position: glam::Vec3::ZERO,
         look_at: glam::Vec3::Z,
         up: glam::Vec3::Y,
@@ -155,7 +161,12 @@ fn check_camera_field(set: impl FnOnce(&mut CameraDesc)) -> ScriptResult<()> {
         focus_distance: None,
         focus_on: None,
         lens: SamplingDesc::default(),
-    };
+    }
+}
+
+/// Checks one camera field against the scene format's rules, on an otherwise valid camera.
+fn check_camera_field(set: impl FnOnce(&mut CameraDesc)) -> ScriptResult<()> {
+    let mut desc = valid_camera_desc();
     set(&mut desc);
     match validate::camera_violation(&desc) {
         Some(v) => error(format!("camera.{}: {}", script_field(&v.path.to_string()), v.rule)),
@@ -201,34 +212,14 @@ fn find(state: &ScriptState, name: &str) -> ScriptResult<usize> {
     const SHOWN: usize = 24;
     let mut names: Vec<&str> = state.entities.iter().map(|e| e.name.as_str()).collect();
     names.sort_unstable();
-    let closest = names
-        .iter()
-        .map(|n| (edit_distance(name, n), *n))
-        .min()
-        .filter(|(d, n)| *d <= 2.max(n.len() / 3))
-        .map_or(String::new(), |(_, n)| format!(" (did you mean `{n}`?)"));
+    let closest =
+        closest(name, names.iter().copied()).map_or(String::new(), |n| format!(" (did you mean `{n}`?)"));
     let more = match names.len().saturating_sub(SHOWN) {
         0 => String::new(),
         n => format!(" and {n} more"),
     };
     names.truncate(SHOWN);
     error(format!("no entity named `{name}` in the scene{closest}; it has: {}{more}", names.join(", ")))
-}
-
-/// Levenshtein distance between two names.
-fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut diagonal = row[0];
-        row[0] = i + 1;
-        for (j, cb) in b.iter().enumerate() {
-            let next = (diagonal + usize::from(ca != *cb)).min(row[j] + 1).min(row[j + 1] + 1);
-            diagonal = row[j + 1];
-            row[j + 1] = next;
-        }
-    }
-    row[b.len()]
 }
 
 fn register_entities(engine: &mut Engine, state: &SharedState) {
@@ -249,12 +240,13 @@ fn register_entities(engine: &mut Engine, state: &SharedState) {
     engine.register_get("centre", |e: &mut EntityHandle| e.state.lock().entities[e.index].centre());
 
     engine.register_get("position", |e: &mut EntityHandle| e.state.lock().entities[e.index].position);
-    engine.register_set("position", |e: &mut EntityHandle, v: DVec3| -> ScriptResult<()> {
+    engine.register_set("position", |e: &mut EntityHandle, v: Dynamic| -> ScriptResult<()> {
         e.write(|entry| {
             if let EntityKind::Light { positioned: false } = entry.kind {
                 return error(format!("entity `{}` is a directional light: it has no position", entry.name));
             }
-            entry.position = coordinate_vec(v, &format!("entity `{}`: position", entry.name))?;
+            let what = format!("entity `{}`: position", entry.name);
+            entry.position = coordinate_vec(vector(&v, &what)?, &what)?;
             entry.transform_dirty = true;
             Ok(())
         })
@@ -262,10 +254,11 @@ fn register_entities(engine: &mut Engine, state: &SharedState) {
     engine.register_get("rotation", |e: &mut EntityHandle| -> ScriptResult<DVec3> {
         e.read(|entry| object(entry, "rotation").map(|_| entry.rotation_deg))
     });
-    engine.register_set("rotation", |e: &mut EntityHandle, v: DVec3| -> ScriptResult<()> {
+    engine.register_set("rotation", |e: &mut EntityHandle, v: Dynamic| -> ScriptResult<()> {
         e.write(|entry| {
             object(entry, "rotation")?;
-            entry.rotation_deg = finite_vec(v, &format!("entity `{}`: rotation", entry.name))?;
+            let what = format!("entity `{}`: rotation", entry.name);
+            entry.rotation_deg = finite_vec(vector(&v, &what)?, &what)?;
             entry.rotation_written = true;
             entry.transform_dirty = true;
             Ok(())
@@ -306,7 +299,8 @@ fn register_entities(engine: &mut Engine, state: &SharedState) {
     engine.register_get("kd", |e: &mut EntityHandle| -> ScriptResult<DVec3> {
         e.read(|entry| material(entry).map(|m| m.kd))
     });
-    engine.register_set("kd", |e: &mut EntityHandle, v: DVec3| -> ScriptResult<()> {
+    engine.register_set("kd", |e: &mut EntityHandle, v: Dynamic| -> ScriptResult<()> {
+        let v = vector(&v, &format!("entity `{}`: kd", e.name()))?;
         e.write_material("kd", |m| m.kd = v, |d| d.kd = v.as_vec3())
     });
     macro_rules! scalar_material {
@@ -326,6 +320,67 @@ fn register_entities(engine: &mut Engine, state: &SharedState) {
     scalar_material!("kt", kt);
     scalar_material!("ior", ior);
     scalar_material!("glossiness", glossiness);
+
+    engine.register_get("colour", |e: &mut EntityHandle| -> ScriptResult<DVec3> {
+        e.read(|entry| light(entry, "colour").map(|l| l.colour))
+    });
+    engine.register_set("colour", |e: &mut EntityHandle, v: Dynamic| -> ScriptResult<()> {
+        e.write(|entry| {
+            let terms = light(entry, "colour")?;
+            let colour = vector(&v, &format!("entity `{}`: colour", entry.name))?;
+            check_light_field(&entry.name, "colour", LightTerms { colour, ..terms })?;
+            entry.light = Some(LightTerms { colour, ..terms });
+            entry.light_dirty = true;
+            Ok(())
+        })
+    });
+    engine.register_get("intensity", |e: &mut EntityHandle| -> ScriptResult<FLOAT> {
+        e.read(|entry| light(entry, "intensity").map(|l| l.intensity))
+    });
+    engine.register_set("intensity", |e: &mut EntityHandle, v: Dynamic| -> ScriptResult<()> {
+        e.write(|entry| {
+            let terms = light(entry, "intensity")?;
+            let intensity = finite(&v, &format!("entity `{}`: intensity", entry.name))?;
+            check_light_field(&entry.name, "intensity", LightTerms { intensity, ..terms })?;
+            entry.light = Some(LightTerms { intensity, ..terms });
+            entry.light_dirty = true;
+            Ok(())
+        })
+    });
+}
+
+/// A light's colour and intensity, or an error for objects.
+fn light(entry: &EntityState, property: &str) -> ScriptResult<LightTerms> {
+    match entry.light {
+        Some(terms) => Ok(terms),
+        None => error(format!(
+            "entity `{}` is an object: it has no {property} (lights have colour and intensity; an \
+             object's colour is its material's kd)",
+            entry.name
+        )),
+    }
+}
+
+/// Checks a light's colour and intensity against the scene format's rules for lights (the
+/// scene validator run on a scene holding only this light); the error names `field`.
+fn check_light_field(name: &str, field: &str, terms: LightTerms) -> ScriptResult<()> {
+    let light = LightDesc::Point {
+        position: Vec3::ZERO,
+        colour: terms.colour.as_vec3(),
+        intensity: terms.intensity as f32,
+    };
+    let scene = SceneDesc {
+        camera: valid_camera_desc(),
+        settings: SettingsDesc::default(),
+        materials: Vec::new(),
+        lights: vec![light],
+        objects: Vec::new(),
+        meshes: Default::default(),
+    };
+    match validate::validate(&scene) {
+        Ok(()) => Ok(()),
+        Err(v) => error(format!("entity `{name}`: {field} {}", v.rule)),
+    }
 }
 
 /// Objects only: errors for lights; says whether the object takes only uniform scales.
@@ -461,18 +516,4 @@ fn register_settings(engine: &mut Engine) {
         s.settings_dirty = true;
         Ok(())
     });
-}
-
-#[cfg(test)]
-mod tests {
-    use super::edit_distance;
-
-    #[test]
-    fn edit_distance_counts_insertions_deletions_and_substitutions() {
-        assert_eq!(edit_distance("ball", "ball"), 0);
-        assert_eq!(edit_distance("bal", "ball"), 1);
-        assert_eq!(edit_distance("red_bal", "red_ball"), 1);
-        assert_eq!(edit_distance("kitten", "sitting"), 3);
-        assert_eq!(edit_distance("", "abc"), 3);
-    }
 }
