@@ -75,9 +75,7 @@ fn shards_cover_the_range_once_and_equal_a_single_process_render() {
                 let shard = format!("{i}/{n}");
                 ok(animate(dir, &out, "2..=9", &["--shard", &shard, "--split", split]));
                 seen.extend(
-                    Shard::new(i, n)
-                        .unwrap()
-                        .frames(FrameRange { first: 2, last: 9 }, split.parse::<Split>().unwrap()),
+                    Shard::new(i, n).unwrap().frames(FrameRange::new(2, 9), split.parse::<Split>().unwrap()),
                 );
             }
             seen.sort_unstable();

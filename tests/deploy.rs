@@ -67,7 +67,7 @@ fn the_kubernetes_job_is_indexed_and_maps_indices_like_slurm_tasks() {
     assert!(modes.contains(&"ReadWriteMany"), "{modes:?}");
 
     // Completion index i renders what Slurm array task i of the same count renders.
-    let range = FrameRange { first: 0, last: 119 };
+    let range = FrameRange::new(0, 119);
     for i in 0..completions {
         let k8s =
             [("JOB_COMPLETION_INDEX", i.to_string()), ("PENUMBRA_SHARD_COUNT", completions.to_string())];

@@ -222,3 +222,109 @@ fn the_readme_example_script_animates_and_sweeps() {
     assert!(out.status.success(), "{}", text(&out));
     assert_eq!(files(&dir.path().join("sweep")).len(), 9 + 2);
 }
+
+/// The lines a script printed (standard error lines starting with its file name).
+fn printed(out: &Output, file: &str) -> Vec<String> {
+    let prefix = format!("{file}: ");
+    String::from_utf8_lossy(&out.stderr)
+        .lines()
+        .filter_map(|l| l.strip_prefix(&prefix).map(str::to_owned))
+        .collect()
+}
+
+#[test]
+fn print_shows_once_per_rendered_frame_with_or_without_quiet() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("talk.rhai"),
+        "fn setup() { print(\"setup\"); }\nfn frame(t) { print(`frame ${frame_number()}`); }\n",
+    )
+    .unwrap();
+    let scene = root().join("scenes/flythrough.ron");
+    let scene = scene.to_str().unwrap();
+    // Frames 0 and 1 run (script only) to reach frame 2; they print nothing.
+    for (out_dir, frames, quiet, lines) in [
+        ("a", "2..=4", false, vec!["setup", "frame 2", "frame 3", "frame 4"]),
+        ("b", "2..=4", true, vec!["setup", "frame 2", "frame 3", "frame 4"]),
+        ("c", "1..=9:4", true, vec!["setup", "frame 1", "frame 5", "frame 9"]),
+    ] {
+        let mut args = vec!["animate", scene, "talk.rhai", "--frames", frames, "-o", out_dir];
+        args.extend(SMALL);
+        if quiet {
+            args.push("--quiet");
+        }
+        let out = run(dir.path(), &args, None);
+        assert!(out.status.success(), "{}", text(&out));
+        assert_eq!(printed(&out, "talk.rhai"), lines, "--frames {frames}, quiet {quiet}: {}", text(&out));
+    }
+    // Top-level code runs before every call: once for setup, then once per rendered frame.
+    std::fs::write(dir.path().join("top.rhai"), "print(\"top\");\nfn frame(t) { }\n").unwrap();
+    let args =
+        [&["animate", scene, "top.rhai", "--frames", "3..=4", "-o", "d", "--quiet"][..], &SMALL].concat();
+    let out = run(dir.path(), &args, None);
+    assert!(out.status.success(), "{}", text(&out));
+    assert_eq!(printed(&out, "top.rhai"), ["top", "top", "top"], "{}", text(&out));
+}
+
+#[test]
+fn a_frame_step_renders_every_nth_frame_and_status_shards_and_rerender_follow_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = root().join("scenes/flythrough.ron");
+    let script = root().join("scripts/orbit.rhai");
+    let (scene, script) = (scene.to_str().unwrap(), script.to_str().unwrap());
+    let animate = |frames: &str, out_dir: &str, extra: &[&str]| {
+        let args =
+            [&["animate", scene, script, "--frames", frames, "-o", out_dir][..], extra, &SMALL].concat();
+        run(dir.path(), &args, None)
+    };
+    let stepped = ["frame_0000.png", "frame_0004.png", "frame_0008.png", "frame_0012.png"];
+    let out = animate("0..=12:4", "stepped", &[]);
+    assert!(out.status.success(), "{}", text(&out));
+    assert_eq!(files(&dir.path().join("stepped")), stepped);
+    assert!(text(&out).contains("4 frames in"), "{}", text(&out));
+
+    // Status knows the job is the stepped list: all done, none missing.
+    let out = run(dir.path(), &["status", "stepped", "--json"], None);
+    assert!(out.status.success(), "{}", text(&out));
+    let status: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(status["done"], serde_json::json!([0, 4, 8, 12]), "{status}");
+    assert_eq!(status["missing"], serde_json::json!([]), "{status}");
+
+    // Shards split the stepped list, and make the same files as one process.
+    for split in ["contiguous", "interleaved"] {
+        let mut seen = Vec::new();
+        for shard in ["0/2", "1/2"] {
+            let out = animate("0..=12:4", split, &["--shard", shard, "--split", split, "--quiet"]);
+            assert!(out.status.success(), "{}", text(&out));
+            let now = files(&dir.path().join(split));
+            assert_eq!(
+                now.len(),
+                seen.len() + 2,
+                "shard {shard} of 2 renders two of the four frames: {now:?}"
+            );
+            seen = now;
+        }
+        assert_eq!(seen, stepped, "{split}");
+        for name in stepped {
+            let single = std::fs::read(dir.path().join("stepped").join(name)).unwrap();
+            assert_eq!(std::fs::read(dir.path().join(split).join(name)).unwrap(), single, "{split} {name}");
+        }
+    }
+
+    // A stepped frame is made again on its own, byte for byte.
+    let out = run(dir.path(), &["info", "stepped/frame_0008.png", "--rerender", "again.png"], None);
+    assert!(out.status.success(), "{}", text(&out));
+    let original = std::fs::read(dir.path().join("stepped/frame_0008.png")).unwrap();
+    assert_eq!(std::fs::read(dir.path().join("again.png")).unwrap(), original);
+
+    // A zero step, or a step with a video, is refused before anything is written.
+    for (frames, extra, says) in [
+        ("0..=12:0", &[][..], "the step after `:` must be a whole number >= 1, got `0`"),
+        ("0..=12:4", &["--video", "out.mp4"][..], "--video needs consecutive frames"),
+    ] {
+        let out = animate(frames, "refused", extra);
+        assert_eq!(out.status.code(), Some(2), "{frames} {extra:?}: {}", text(&out));
+        assert!(text(&out).contains(says), "{}", text(&out));
+        assert!(!dir.path().join("refused").exists());
+    }
+}

@@ -319,7 +319,7 @@ mod tests {
             version: "test".into(),
             scene: dir.join("s.ron"),
             script: dir.join("s.rhai"),
-            frames: FrameRange { first: 0, last: 3 },
+            frames: FrameRange::new(0, 3),
             fps: 24.0,
             options: "width 8".into(),
             extension: "png".into(),
@@ -378,7 +378,7 @@ mod tests {
     fn frame_lists_print_as_ranges() {
         assert_eq!(ranges(&[0, 1, 2, 3, 7, 9, 10]), "0..=3, 7, 9..=10");
         assert_eq!(ranges(&[]), "none");
-        assert_eq!(frame_file_name(FrameRange { first: 0, last: 119 }, 7, "png"), "frame_0007.png");
-        assert_eq!(frame_file_name(FrameRange { first: 0, last: 123456 }, 7, "exr"), "frame_000007.exr");
+        assert_eq!(frame_file_name(FrameRange::new(0, 119), 7, "png"), "frame_0007.png");
+        assert_eq!(frame_file_name(FrameRange::new(0, 123456), 7, "exr"), "frame_000007.exr");
     }
 }

@@ -64,8 +64,8 @@ impl Shard {
         }
     }
 
-    /// This shard's frames of `range`, in increasing order (possibly none, when there are
-    /// more shards than frames).
+    /// This shard's frames of `range` (of its stepped list, for `0..=12:4`), in increasing
+    /// order (possibly none, when there are more shards than frames).
     pub fn frames(&self, range: FrameRange, split: Split) -> Vec<u32> {
         let (n, i, len) = (self.count as u64, self.index as u64, range.len() as u64);
         match split {
@@ -73,9 +73,9 @@ impl Shard {
                 let (base, extra) = (len / n, len % n);
                 let start = i * base + i.min(extra);
                 let size = base + u64::from(i < extra);
-                (start..start + size).map(|k| range.first + k as u32).collect()
+                (start..start + size).map(|k| range.nth(k as u32)).collect()
             }
-            Split::Interleaved => (i..len).step_by(n as usize).map(|k| range.first + k as u32).collect(),
+            Split::Interleaved => (i..len).step_by(n as usize).map(|k| range.nth(k as u32)).collect(),
         }
     }
 
@@ -152,7 +152,7 @@ mod tests {
     use std::collections::HashMap;
 
     fn range(first: u32, last: u32) -> FrameRange {
-        FrameRange { first, last }
+        FrameRange::new(first, last)
     }
 
     #[test]
@@ -181,6 +181,18 @@ mod tests {
         assert_eq!(sizes, [4, 3, 3]);
         assert_eq!(Shard::new(1, 3).unwrap().frames(range(0, 9), Split::Contiguous), [4, 5, 6]);
         assert_eq!(Shard::new(1, 3).unwrap().frames(range(0, 9), Split::Interleaved), [1, 4, 7]);
+    }
+
+    #[test]
+    fn a_stepped_range_is_split_as_its_list_of_frames() {
+        let stepped = FrameRange { first: 0, last: 12, step: 4 };
+        let shard = |i, split| Shard::new(i, 2).unwrap().frames(stepped, split);
+        assert_eq!((shard(0, Split::Contiguous), shard(1, Split::Contiguous)), (vec![0, 4], vec![8, 12]));
+        assert_eq!((shard(0, Split::Interleaved), shard(1, Split::Interleaved)), (vec![0, 8], vec![4, 12]));
+        assert_eq!(
+            Shard::new(2, 3).unwrap().frames(FrameRange { first: 3, last: 20, step: 5 }, Split::Contiguous),
+            [18]
+        );
     }
 
     #[test]

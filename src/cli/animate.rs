@@ -28,7 +28,8 @@ pub struct AnimateArgs {
     pub scene: PathBuf,
     /// Rhai script defining `fn frame(t)` (and optionally `fn setup()`).
     pub script: PathBuf,
-    /// Frames to render: `A..=B`, `A..B` or a single frame `A`. Frame n is at time n / fps.
+    /// Frames to render: `A..=B`, `A..B` or a single frame `A`; `:S` after a range renders
+    /// every S-th frame (`0..=119:5`, for previews). Frame n is at time n / fps.
     #[arg(long, value_name = "RANGE")]
     pub frames: FrameRange,
     /// Frames per second (the script's `t` advances by 1/fps per frame).
@@ -54,7 +55,8 @@ pub struct AnimateArgs {
     /// Also encode the frames to this video with ffmpeg (which must be on PATH).
     #[arg(long, value_name = "OUT.mp4")]
     pub video: Option<PathBuf>,
-    /// No progress bars or per-frame lines; errors only (for batch logs).
+    /// No progress bars or per-frame lines; errors only (for batch logs). The script's own
+    /// `print` output still shows, once per rendered frame.
     #[arg(long)]
     pub quiet: bool,
     /// How to render and encode each frame.
@@ -107,6 +109,12 @@ pub fn run(args: &AnimateArgs, argv: &[String]) -> anyhow::Result<()> {
         return Err(bad_input(format!(
             "--video needs every frame; encode after all {} shards have finished",
             shard.count
+        )));
+    }
+    if args.video.is_some() && args.frames.step > 1 {
+        return Err(bad_input(format!(
+            "--video needs consecutive frames, but --frames {} takes every {}th; drop the step or --video",
+            args.frames, args.frames.step
         )));
     }
     let ffmpeg = match &args.video {

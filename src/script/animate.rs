@@ -21,19 +21,33 @@ use crate::scene::SceneDesc;
 use crate::store::{PrimitiveStore, SoaStore};
 use crate::trace::TraceScene;
 
-/// An inclusive range of frame numbers.
+/// Frame numbers from `first` to `last` (inclusive), every `step`-th: `0..=12:4` is 0, 4, 8
+/// and 12; `0..=119:5` stops at 115.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct FrameRange {
     /// First frame.
     pub first: u32,
-    /// Last frame (inclusive).
+    /// Last frame allowed (inclusive); the last frame rendered is the last step at or before it.
     pub last: u32,
+    /// Distance between rendered frames, at least 1 (manifests written before steps existed
+    /// have none: 1).
+    #[serde(default = "one")]
+    pub step: u32,
+}
+
+fn one() -> u32 {
+    1
 }
 
 impl FrameRange {
+    /// Every frame from `first` to `last` (inclusive).
+    pub const fn new(first: u32, last: u32) -> Self {
+        Self { first, last, step: 1 }
+    }
+
     /// Number of frames.
     pub fn len(&self) -> u32 {
-        self.last - self.first + 1
+        (self.last - self.first) / self.step.max(1) + 1
     }
 
     /// Never empty: a range holds at least its first frame.
@@ -41,15 +55,25 @@ impl FrameRange {
         false
     }
 
+    /// The `k`-th frame number (0-based), for `k < len()`.
+    pub fn nth(&self, k: u32) -> u32 {
+        debug_assert!(k < self.len(), "frame {k} of a range of {}", self.len());
+        self.first + k * self.step.max(1)
+    }
+
     /// The frame numbers in order.
-    pub fn iter(&self) -> std::ops::RangeInclusive<u32> {
-        self.first..=self.last
+    pub fn iter(&self) -> std::iter::StepBy<std::ops::RangeInclusive<u32>> {
+        (self.first..=self.last).step_by(self.step.max(1) as usize)
     }
 }
 
 impl fmt::Display for FrameRange {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}..={}", self.first, self.last)
+        write!(f, "{}..={}", self.first, self.last)?;
+        match self.step {
+            0 | 1 => Ok(()),
+            step => write!(f, ":{step}"),
+        }
     }
 }
 
@@ -59,27 +83,40 @@ pub const MAX_FRAME: u32 = 999_999;
 impl FromStr for FrameRange {
     type Err = String;
 
-    /// `A..=B` (inclusive), `A..B` (exclusive) or a single frame `A`.
+    /// `A..=B` (inclusive), `A..B` (exclusive) or a single frame `A`; a range may end with
+    /// `:S` to take every S-th frame (`0..=119:5`).
     fn from_str(s: &str) -> Result<Self, String> {
         let number = |t: &str| {
             t.trim().parse::<u32>().ok().filter(|n| *n <= MAX_FRAME).ok_or_else(|| {
-                format!("`{t}` is not a frame number in 0..={MAX_FRAME} (expected A..=B, A..B or A)")
+                format!("`{t}` is not a frame number in 0..={MAX_FRAME} (expected A..=B, A..B or A, then optionally :STEP)")
             })
         };
-        let (first, last) = if let Some((a, b)) = s.split_once("..=") {
+        let (range, step) = match s.rsplit_once(':') {
+            Some((range, step)) => {
+                let step = step.trim().parse::<u32>().ok().filter(|n| *n >= 1).ok_or_else(|| {
+                    format!("`{s}`: the step after `:` must be a whole number >= 1, got `{step}`")
+                })?;
+                if !range.contains("..") {
+                    return Err(format!("`{s}`: a step needs a range, e.g. `{range}..=120:{step}`"));
+                }
+                (range, step)
+            }
+            None => (s, 1),
+        };
+        let (first, last) = if let Some((a, b)) = range.split_once("..=") {
             (number(a)?, number(b)?)
-        } else if let Some((a, b)) = s.split_once("..") {
+        } else if let Some((a, b)) = range.split_once("..") {
             let (a, b) = (number(a)?, number(b)?);
             if b <= a {
                 return Err(format!("`{s}` is empty: the end of A..B is exclusive"));
             }
             (a, b - 1)
         } else {
-            let a = number(s)?;
+            let a = number(range)?;
             (a, a)
         };
         match first <= last {
-            true => Ok(Self { first, last }),
+            true => Ok(Self { first, last, step }),
             false => Err(format!("`{s}` is empty: the first frame comes after the last")),
         }
     }
@@ -141,12 +178,45 @@ mod tests {
 
     #[test]
     fn frame_ranges_parse_inclusive_exclusive_and_single() {
-        assert_eq!("0..=119".parse::<FrameRange>().unwrap(), FrameRange { first: 0, last: 119 });
-        assert_eq!("10..20".parse::<FrameRange>().unwrap(), FrameRange { first: 10, last: 19 });
-        assert_eq!("7".parse::<FrameRange>().unwrap(), FrameRange { first: 7, last: 7 });
+        assert_eq!("0..=119".parse::<FrameRange>().unwrap(), FrameRange::new(0, 119));
+        assert_eq!("10..20".parse::<FrameRange>().unwrap(), FrameRange::new(10, 19));
+        assert_eq!("7".parse::<FrameRange>().unwrap(), FrameRange::new(7, 7));
         assert_eq!("0..=119".parse::<FrameRange>().unwrap().len(), 120);
         for bad in ["5..=2", "3..3", "a..=4", "-1..=3", "", "1..=9999999"] {
             assert!(bad.parse::<FrameRange>().is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn a_step_takes_every_nth_frame_up_to_the_end() {
+        let stepped = |s: &str| s.parse::<FrameRange>().unwrap().iter().collect::<Vec<_>>();
+        assert_eq!(stepped("0..=12:4"), [0, 4, 8, 12]);
+        assert_eq!(stepped("0..12:4"), [0, 4, 8]);
+        assert_eq!(stepped("3..=10:3"), [3, 6, 9]);
+        assert_eq!(stepped("5..=5:7"), [5]);
+        let r: FrameRange = "0..=119:5".parse().unwrap();
+        assert_eq!((r.len(), r.nth(0), r.nth(23)), (24, 0, 115));
+        assert_eq!(r.iter().count(), r.len() as usize);
+        assert_eq!(r.to_string(), "0..=119:5");
+        assert_eq!(r.to_string().parse::<FrameRange>().unwrap(), r);
+        assert_eq!("2..=9:1".parse::<FrameRange>().unwrap().to_string(), "2..=9");
+        for (bad, says) in [
+            ("0..=12:0", "must be a whole number >= 1, got `0`"),
+            ("0..=12:", "must be a whole number >= 1"),
+            ("0..=12:-2", "must be a whole number >= 1"),
+            ("4:2", "a step needs a range"),
+        ] {
+            let e = bad.parse::<FrameRange>().unwrap_err();
+            assert!(e.contains(says), "{bad}: {e}");
+        }
+    }
+
+    #[test]
+    fn manifests_without_a_step_read_as_every_frame() {
+        let old: FrameRange = serde_json::from_str(r#"{"first": 2, "last": 9}"#).unwrap();
+        assert_eq!(old, FrameRange::new(2, 9));
+        let stepped = FrameRange { first: 0, last: 12, step: 4 };
+        let json = serde_json::to_string(&stepped).unwrap();
+        assert_eq!(serde_json::from_str::<FrameRange>(&json).unwrap(), stepped);
     }
 }
