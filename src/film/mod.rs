@@ -8,6 +8,7 @@ pub mod metadata;
 pub mod metrics;
 pub mod output;
 mod png_io;
+pub mod png_read;
 pub mod tonemap;
 
 pub use aov::{AovSet, Aovs};
@@ -17,6 +18,7 @@ pub use output::{
     encode_srgb8, linear_to_srgb, read_exr, read_metadata, write_atomically, write_image, write_png,
     OutputError, OutputFormat,
 };
+pub use png_read::{read_png_linear, srgb_to_linear, LinearPng};
 pub use tonemap::{tone_map, ToneMapping, ToneOperator};
 
 use crate::math::Vec3;
