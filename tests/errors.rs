@@ -382,6 +382,9 @@ fn rows() -> Vec<Row> {
         row("report -o names a file", 2, &["report", "{dir}/s.ron", "--quiet", "-o", "{dir}/s.ron"])
             .valid_inputs()
             .says(&["{dir}/s.ron", "is a file; the report needs a folder"]),
+        row("report --reference that is no image", 2, &with(REPORT, &["--reference", "{dir}/s.ron"]))
+            .valid_inputs()
+            .says(&["{dir}/s.ron: not a PNG or EXR file", "--reference takes a linear EXR", "8/16-bit sRGB PNG"]),
         row("info on a file that is no image", 2, &["info", "{dir}/s.ron"])
             .valid_inputs()
             .says(&["{dir}/s.ron", "neither a PNG nor an EXR file"]),

@@ -132,6 +132,175 @@ fn a_reference_read_from_a_file_equal_to_a_variant_gives_zero_error() {
     assert_eq!(json["points"][1]["psnr"], "inf");
 }
 
+/// Runs `penumbra ARGS` in `dir`.
+fn penumbra(dir: &Path, args: &[&str]) -> std::process::Output {
+    Command::new(BIN).current_dir(dir).args(args).output().expect("the binary runs")
+}
+
+/// The `aa 16 jittered` row's RMSE of a report against `reference` made from the 16-sample render.
+fn rmse_of_aa16(dir: &Path, reference: &str) -> f64 {
+    let out = report(dir, false, &["--sweep", "sweep.ron", "--reference", reference]);
+    rows(&out).into_iter().find(|r| r.1 == "aa 16 jittered").expect("an aa 16 row").2
+}
+
+#[test]
+fn png_references_of_8_and_16_bits_are_read_as_linear() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::write(dir.join("scene.ron"), scene(false)).unwrap();
+    std::fs::write(dir.join("sweep.ron"), "Sweep(axes: [Aa(samples: [4, 16])])").unwrap();
+    for (file, format) in [("ref8.png", "png8"), ("ref16.png", "png16"), ("ref.exr", "exr-float")] {
+        let out =
+            penumbra(dir, &["render", "scene.ron", "-o", file, "--format", format, "--samples", "aa=16"]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    }
+    assert_eq!(rmse_of_aa16(dir, "ref.exr"), 0.0);
+    // Quantisation only: half a code value of sRGB is at most ~1.5e-3 in linear light (8 bits).
+    let rmse8 = rmse_of_aa16(dir, "ref8.png");
+    assert!(rmse8 < 2e-3, "8-bit PNG reference: RMSE {rmse8}");
+    let rmse16 = rmse_of_aa16(dir, "ref16.png");
+    assert!(rmse16 < 2e-5, "16-bit PNG reference: RMSE {rmse16}");
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("report/results.json")).unwrap()).unwrap();
+    assert!(json["reference"]["description"]
+        .as_str()
+        .unwrap()
+        .contains("16-bit PNG, sRGB decoded to linear"));
+
+    // A filmic PNG cannot be undone: refused plainly, with exit 2 and one message.
+    let out = penumbra(dir, &["render", "scene.ron", "-o", "aces.png", "--tonemap", "aces"]);
+    assert!(out.status.success());
+    let out = penumbra(dir, &["report", "scene.ron", "--reference", "aces.png", "-o", "r2", "--quiet"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(stderr.contains("aces.png: this PNG was tone-mapped with Aces"), "{stderr}");
+    // Neither PNG nor EXR: said plainly, once.
+    std::fs::write(dir.join("x.png"), "not an image").unwrap();
+    let out = penumbra(dir, &["report", "scene.ron", "--reference", "x.png", "-o", "r3", "--quiet"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("x.png: not a PNG or EXR file") && !stderr.contains("EXR error"), "{stderr}");
+}
+
+#[test]
+fn a_reference_from_another_scene_is_refused_unless_forced() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::write(dir.join("scene.ron"), scene(false)).unwrap();
+    std::fs::write(dir.join("other.ron"), scene(true)).unwrap();
+    std::fs::write(dir.join("sweep.ron"), "Sweep(axes: [Aa(samples: [1])])").unwrap();
+    let out = penumbra(dir, &["render", "other.ron", "-o", "other.exr", "--format", "exr-float"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let args =
+        ["report", "scene.ron", "--sweep", "sweep.ron", "--reference", "other.exr", "-o", "r", "--quiet"];
+    let out = penumbra(dir, &args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("other.exr: the reference was made from scene other.ron (sha256 ")
+            && stderr.contains("not from scene.ron (sha256 ")
+            && stderr.contains("--force"),
+        "{stderr}"
+    );
+    assert!(!dir.join("r/results.csv").exists(), "nothing is measured against the wrong scene");
+
+    let out = penumbra(dir, &[&args[..], &["--force"]].concat());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("warning: other.exr: the reference was made from scene other.ron"), "{stderr}");
+    assert!(dir.join("r/results.csv").is_file());
+
+    // A PNG with no Penumbra metadata: used, with a warning that its scene cannot be checked.
+    let out = penumbra(dir, &["render", "scene.ron", "-o", "plain.png"]);
+    assert!(out.status.success());
+    image::open(dir.join("plain.png")).unwrap().save(dir.join("stripped.png")).unwrap();
+    let out = penumbra(
+        dir,
+        &[
+            "report",
+            "scene.ron",
+            "--sweep",
+            "sweep.ron",
+            "--reference",
+            "stripped.png",
+            "-o",
+            "r4",
+            "--quiet",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("stripped.png: no Penumbra metadata") && stderr.contains("cannot be checked"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn configurations_render_once_per_round_in_interleaved_rounds() {
+    use penumbra::report::run::{render_count, run, Options};
+    use penumbra::report::sweep::SweepDesc;
+    let tmp = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("scene.ron");
+    std::fs::write(&path, scene(true)).unwrap();
+    let mut desc = penumbra::scene::load_scene(&path).unwrap();
+    (desc.camera.width, desc.camera.height) = (12, 9);
+    // `aa 4` twice, and `area_light 4` is the scene's own light setting, as is the scene as is
+    // that the area light's cost is measured against.
+    let sweep =
+        SweepDesc::parse("Sweep(axes: [Aa(samples: [4, 4]), AreaLight(samples: [4, 16])])", "sweep.ron")
+            .unwrap();
+    let options = Options { runs: 3, reference: None };
+    let labels = std::sync::Mutex::new(Vec::new());
+    let progress = |label: &str| labels.lock().unwrap().push(label.to_owned());
+    let report = run(&desc, "scene.ron", &sweep, &options, tmp.path(), &progress).unwrap();
+    let labels = labels.into_inner().unwrap();
+    // Distinct configurations: aa 4, area_light 4 (= the scene as is), area_light 16, area_light off.
+    let round = ["aa 4 jittered", "area_light 4", "area_light 16", "area_light off"];
+    let expected: Vec<&str> =
+        std::iter::once("reference").chain(round.iter().copied().cycle().take(12)).collect();
+    assert_eq!(labels, expected);
+    assert_eq!(render_count(&desc, &sweep, &options), labels.len());
+    // Both `aa 4` rows report the one configuration: same time, rays and error, 3 rounds each.
+    let (a, b) = (&report.points[0], &report.points[1]);
+    assert_eq!((&a.label, &b.label), (&"aa 4 jittered".to_owned(), &"aa 4 jittered".to_owned()));
+    assert_eq!((a.config, a.seconds, a.rays, a.rmse), (b.config, b.seconds, b.rays, b.rmse));
+    assert_eq!((a.runs, a.times.len()), (3, 3));
+    assert_eq!(report.costs.len(), 1);
+    assert_eq!(report.costs[0].seconds_on, report.points[2].seconds, "the scene as is is area_light 4");
+}
+
+#[test]
+fn effects_have_one_name_in_the_command_line_and_the_report() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    std::fs::write(dir.join("sweep.ron"), "Sweep(axes: [Aa(samples: [1]), AreaLight(samples: [1, 2]), Glossy(samples: [1]), Lens(samples: [1])])").unwrap();
+    let out = report(dir, true, &["--sweep", "sweep.ron", "--width", "8", "--height", "6"]);
+    let rows = rows(&out);
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("results.json")).unwrap()).unwrap();
+    let mut names: Vec<String> = rows.iter().map(|r| r.0.clone()).collect();
+    names.extend(json["costs"].as_array().unwrap().iter().map(|c| c["effect"].as_str().unwrap().to_owned()));
+    assert!(names.contains(&"area_light".to_owned()), "{names:?}");
+    for (axis, label, _, _) in &rows {
+        assert!(label.starts_with(&format!("{axis} ")), "label `{label}` does not name its axis `{axis}`");
+    }
+    // Every name the report prints is what `render --samples` and `--pattern` take.
+    for name in &names {
+        for (flag, value) in [("--samples", "2"), ("--pattern", "grid")] {
+            let arg = format!("{name}={value}");
+            let r = penumbra(dir, &["render", "scene.ron", "-o", "x.png", "--width", "8", flag, &arg]);
+            assert!(r.status.success(), "{flag} {arg}: {}", String::from_utf8_lossy(&r.stderr));
+        }
+    }
+    let r = penumbra(dir, &["render", "scene.ron", "-o", "x.png", "--samples", "bogus=2"]);
+    assert!(String::from_utf8_lossy(&r.stderr).contains("expected aa, lens, area_light or glossy"));
+    // The older spelling still works.
+    let r = penumbra(dir, &["render", "scene.ron", "-o", "x.png", "--width", "8", "--samples", "shadow=2"]);
+    assert!(r.status.success());
+}
+
 #[test]
 fn the_page_loads_in_headless_chromium_with_its_plots_and_no_console_error() {
     let Some(chromium) = ["chromium", "chromium-browser", "google-chrome"].iter().find_map(|name| {

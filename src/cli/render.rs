@@ -60,7 +60,7 @@ pub struct FrameArgs {
     /// Worker threads (default: one per core).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
-    /// Sample count of an effect, e.g. `--samples aa=16` (aa, lens, shadow, glossy; repeatable).
+    /// Sample count of an effect, e.g. `--samples aa=16` (aa, lens, area_light, glossy; repeatable).
     #[arg(long, value_name = "EFFECT=N", value_parser = parse_samples)]
     samples: Vec<(Effect, u32)>,
     /// Sample pattern of an effect, e.g. `--pattern lens=grid` (grid, random, jittered; repeatable).
@@ -113,9 +113,10 @@ fn split_effect(s: &str) -> Result<(Effect, &str), String> {
     let effect = match effect {
         "aa" => Effect::Aa,
         "lens" => Effect::Lens,
-        "shadow" => Effect::Shadow,
+        // `area_light` as in reports and sweep files; `shadow` is its older spelling.
+        "area_light" | "shadow" => Effect::Shadow,
         "glossy" => Effect::Glossy,
-        other => return Err(format!("unknown effect `{other}`; expected aa, lens, shadow or glossy")),
+        other => return Err(format!("unknown effect `{other}`; expected aa, lens, area_light or glossy")),
     };
     Ok((effect, value))
 }

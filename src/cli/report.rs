@@ -7,13 +7,15 @@ use anyhow::Context;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use penumbra::film::{read_exr, write_atomically};
-use penumbra::report::run::{csv, effects_of, render_count, run as run_report, Options};
+use penumbra::film::write_atomically;
+use penumbra::report::reference::{read_reference, ReferenceFile};
+use penumbra::report::run::{csv, effects_of, render_count, run as run_report, Options, DEFAULT_RUNS};
 use penumbra::report::sweep::SweepDesc;
 use penumbra::report::{html, plot};
 use penumbra::scene;
 
 use super::bad_input;
+use super::meta::{sha256_hex, SCENE, SCENE_HASH};
 use super::render::{apply_size, say};
 
 /// Arguments of `penumbra report`.
@@ -25,15 +27,20 @@ pub struct ReportArgs {
     /// glossy and lens samples where the scene uses those effects.
     #[arg(long, value_name = "SWEEP.ron")]
     pub sweep: Option<PathBuf>,
-    /// Use this image (linear EXR, e.g. from `penumbra render --format exr-float`) as the
-    /// reference instead of rendering one.
-    #[arg(long, value_name = "REF.exr")]
+    /// Use this image as the reference instead of rendering one: a linear EXR (preferred; e.g.
+    /// `penumbra render --format exr-float`) or an 8/16-bit sRGB PNG (clamped and quantised).
+    /// It must have been made from the same scene file unless `--force`.
+    #[arg(long, value_name = "REF.exr|REF.png")]
     pub reference: Option<PathBuf>,
+    /// Use a `--reference` that records another scene (a warning instead of an error).
+    #[arg(long)]
+    pub force: bool,
     /// Report folder (created if missing).
     #[arg(short, long, default_value = "report")]
     pub output: PathBuf,
-    /// Renders per point; the reported time is their median.
-    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=99))]
+    /// Interleaved rounds: each renders every distinct configuration once; a point's time is
+    /// the median over the rounds.
+    #[arg(long, default_value_t = DEFAULT_RUNS as u32, value_parser = clap::value_parser!(u32).range(1..=99))]
     pub runs: u32,
     /// Image width in pixels (overrides the scene; alone, the height keeps the aspect).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
@@ -49,6 +56,42 @@ pub struct ReportArgs {
     pub quiet: bool,
 }
 
+/// Prints `line` to stderr.
+fn warn(line: &str) -> anyhow::Result<()> {
+    use std::io::Write;
+    writeln!(std::io::stderr(), "{line}").context("cannot write to stderr")
+}
+
+/// Checks that the reference was made from this scene file (the scene hash in its metadata):
+/// another scene is refused (exit 2) unless `--force`, which warns instead; a file without the
+/// hash is used with a warning that its scene cannot be checked.
+fn check_provenance(args: &ReportArgs, path: &std::path::Path, file: &ReferenceFile) -> anyhow::Result<()> {
+    let source =
+        std::fs::read(&args.scene).with_context(|| format!("{}: cannot read scene", args.scene.display()))?;
+    let ours = sha256_hex(&source);
+    let Some(theirs) = file.meta.get(SCENE_HASH) else {
+        return warn(&format!(
+            "warning: {}: no Penumbra metadata ({SCENE_HASH}), so whether it was made from {} cannot be checked",
+            path.display(),
+            args.scene.display()
+        ));
+    };
+    if theirs == ours {
+        return Ok(());
+    }
+    let message = format!(
+        "{}: the reference was made from scene {} (sha256 {theirs}), not from {} (sha256 {ours})",
+        path.display(),
+        file.meta.get(SCENE).unwrap_or("(unnamed)"),
+        args.scene.display()
+    );
+    if args.force {
+        warn(&format!("warning: {message}; used anyway (--force)"))
+    } else {
+        Err(bad_input(format!("{message}; pass --force to use it anyway")))
+    }
+}
+
 /// Runs the report and writes its files.
 pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
     let mut desc = scene::load_scene(&args.scene)?;
@@ -59,8 +102,12 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
     };
     let reference = match &args.reference {
         Some(path) => {
-            let (film, _) = read_exr(path)?;
-            Some((film, path.display().to_string()))
+            let file = read_reference(path).map_err(|e| bad_input(e.to_string()))?;
+            check_provenance(args, path, &file)?;
+            if !args.quiet {
+                file.notes.iter().try_for_each(|n| warn(&format!("note: {n}")))?;
+            }
+            Some((file.film, file.description))
         }
         None => None,
     };

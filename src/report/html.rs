@@ -101,7 +101,7 @@ fn grouped(n: u64) -> String {
     let digits = n.to_string();
     let mut out = String::with_capacity(digits.len() * 2);
     for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i) % 3 == 0 {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
             out.push('\u{202F}');
         }
         out.push(c);
@@ -192,7 +192,7 @@ fn table(page: &mut String, r: &Report) {
         let _ = writeln!(
             page,
             "<tr{class}><td class=\"front\"{tip}>{star}</td><td>{axis}</td><td>{label}</td><td>{params}</td>\
-             <td class=\"num\">{secs}</td><td class=\"num\">{runs}</td>\
+             <td class=\"num\" title=\"{times}\">{secs}</td><td class=\"num\">{runs}</td>\
              <td class=\"num\" title=\"{kinds}\">{rays}</td><td class=\"num\">{rmse}</td>\
              <td class=\"num\">{psnr}</td><td class=\"num\">{ssim:.4}</td></tr>",
             class = if on_front { " class=\"pareto\"" } else { "" },
@@ -202,6 +202,7 @@ fn table(page: &mut String, r: &Report) {
             label = escape(&p.label),
             params = params.join(", "),
             secs = seconds(p.seconds),
+            times = escape(&p.times.iter().map(|&t| seconds(t)).collect::<Vec<_>>().join(", ")),
             runs = p.runs,
             kinds = escape(&ray_kinds(p)),
             rays = grouped(p.rays.total()),
@@ -212,7 +213,9 @@ fn table(page: &mut String, r: &Report) {
     }
     page.push_str(
         "</tbody>\n</table></div>\n<p class=\"note\">★ on the Pareto front of time and RMSE: no other \
-         variant is both faster and more accurate. Hover a ray count for its kinds.</p>\n</section>\n",
+         variant is both faster and more accurate. Times are medians over interleaved rounds (every \
+         configuration once per round); rows with equal settings share one render. Hover a time for \
+         every round's, a ray count for its kinds.</p>\n</section>\n",
     );
 }
 

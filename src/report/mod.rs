@@ -4,6 +4,7 @@
 
 pub mod html;
 pub mod plot;
+pub mod reference;
 pub mod run;
 pub mod sweep;
 
@@ -14,16 +15,22 @@ use crate::trace::RayCounts;
 /// One rendered variant of the sweep.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Point {
-    /// The sweep axis it belongs to: `aa`, `adaptive`, `area_light`, `glossy` or `lens`.
+    /// The sweep axis it belongs to: `aa`, `adaptive`, `area_light`, `glossy` or `lens` (the
+    /// effect names `penumbra render --samples` takes).
     pub axis: String,
     /// Short human label, e.g. `aa 16 jittered`.
     pub label: String,
     /// Parameter names and values, e.g. `[("samples", "16"), ("pattern", "jittered")]`.
     pub params: Vec<(String, String)>,
-    /// Median wall time of the render in seconds.
+    /// Median wall time of the render in seconds, over interleaved rounds.
     pub seconds: f64,
-    /// Renders the median was taken over.
+    /// Renders the median was taken over (one per round).
     pub runs: usize,
+    /// The time of each render in seconds, round by round.
+    pub times: Vec<f64>,
+    /// Index of the distinct configuration rendered: points with equal settings (a setting
+    /// listed twice, or the scene's own setting on several axes) share one render and its time.
+    pub config: usize,
     /// Rays by kind (of one render).
     pub rays: RayCounts,
     /// Root-mean-square error against the reference (linear RGB).
@@ -62,7 +69,7 @@ pub struct EffectCost {
 /// The reference image a report measures against.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Reference {
-    /// How it was made, e.g. `aa 256 jittered, lens 64, area light 256, glossy 256`, or the
+    /// How it was made, e.g. `aa 256 jittered, lens 64, area_light 256, glossy 256`, or the
     /// file it was read from.
     pub description: String,
     /// Seconds it took (0 when read from a file).
@@ -135,6 +142,8 @@ mod tests {
             params: vec![],
             seconds,
             runs: 1,
+            times: vec![seconds],
+            config: 0,
             rays: RayCounts::default(),
             rmse,
             psnr: -20.0 * rmse.log10(),

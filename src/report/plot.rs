@@ -5,6 +5,8 @@
 //! names the `sans-serif` family and is drawn by the viewer (layout is measured with the same
 //! bundled font).
 //!
+//! The legend stands in a column right of the axes, so it never covers a curve or a bar.
+//!
 //! PNG text goes through `raster`, which fixes plotters' glyph placement; `scale` makes the log
 //! ticks and number labels.
 //!
@@ -297,13 +299,13 @@ fn draw_error_chart<DB: DrawingBackend>(
         notes.push(format!("{} variant(s) without a positive value left out", data.left_out));
     }
     let area = with_note(root, &notes.join("; "))?;
+    let (area, legend) = with_legend(&area, title)?;
 
     let (xb, xl) = log_ticks(&data.x);
     let (yb, yl) = log_ticks(&data.y);
     let mut chart = ChartBuilder::on(&area)
-        .caption(title, (FONT, 22).into_font().color(&INK))
         .margin(14)
-        .margin_right(28)
+        .margin_top(4)
         .x_label_area_size(46)
         .y_label_area_size(62)
         .build_cartesian_2d(
@@ -324,6 +326,7 @@ fn draw_error_chart<DB: DrawingBackend>(
         .draw()?;
 
     // The Pareto front first, so that the series are drawn over it.
+    let mut entries = Vec::new();
     if front {
         let points: Vec<(f64, f64)> = report
             .pareto_front()
@@ -338,14 +341,8 @@ fn draw_error_chart<DB: DrawingBackend>(
                 steps.push(w[1]);
             }
             let style = FRONT.stroke_width(2);
-            chart.draw_series(DashedLineSeries::new(steps, 7, 5, style))?.label("Pareto front").legend(
-                move |(x, y)| {
-                    EmptyElement::at((x, y))
-                        + PathElement::new(vec![(-12, 0), (-4, 0)], style)
-                        + PathElement::new(vec![(4, 0), (12, 0)], style)
-                        + Circle::new((0, 0), 6, FRONT.stroke_width(2))
-                },
-            );
+            chart.draw_series(DashedLineSeries::new(steps, 7, 5, style))?;
+            entries.push(("Pareto front".to_owned(), Mark::Front));
             chart.draw_series(points.iter().map(|&p| Circle::new(p, 9, FRONT.stroke_width(2))))?;
         }
     }
@@ -354,15 +351,8 @@ fn draw_error_chart<DB: DrawingBackend>(
         let colour = PALETTE[k % PALETTE.len()];
         let line = colour.stroke_width(2);
         let shape = marker_shape(k);
-        let legend_shape = shape.clone();
-        chart
-            .draw_series(LineSeries::new(s.points.iter().map(|p| (p.0, p.1)), line))?
-            .label(s.name.as_str())
-            .legend(move |(x, y)| {
-                EmptyElement::at((x, y))
-                    + PathElement::new(vec![(-12, 0), (12, 0)], line)
-                    + Polygon::new(legend_shape.clone(), colour.filled())
-            });
+        chart.draw_series(LineSeries::new(s.points.iter().map(|p| (p.0, p.1)), line))?;
+        entries.push((s.name.clone(), Mark::Series(k)));
         chart.draw_series(
             s.points
                 .iter()
@@ -377,16 +367,7 @@ fn draw_error_chart<DB: DrawingBackend>(
         }))?;
     }
 
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .margin(12)
-        .legend_area_size(32)
-        .label_font((FONT, 14).into_font().color(&INK))
-        .background_style(WHITE.mix(0.9))
-        .border_style(GRID_BOLD)
-        .draw()?;
-    Ok(())
+    draw_legend(&legend, &entries)
 }
 
 /// The grouped bar chart of effect costs.
@@ -419,10 +400,10 @@ fn draw_costs<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, report: &Report
         .collect();
 
     let area = with_note(root, "ratio in brackets: time with the scene's setting / time with one sample")?;
+    let (area, legend) = with_legend(&area, &title)?;
     let mut chart = ChartBuilder::on(&area)
-        .caption(&title, (FONT, 22).into_font().color(&INK))
         .margin(14)
-        .margin_right(28)
+        .margin_top(4)
         .x_label_area_size(46)
         .y_label_area_size(62)
         .build_cartesian_2d((0..n - 1).into_segmented(), 0.0..top)?;
@@ -454,22 +435,21 @@ fn draw_costs<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, report: &Report
     let value_style =
         TextStyle::from((FONT, 12).into_font()).color(&INK).pos(Pos::new(HPos::Center, VPos::Bottom));
     let [on_colour, off_colour] = [PALETTE[0], RGBColor(160, 190, 214)];
+    let mut entries = Vec::new();
     for (half, colour, name) in [(0, on_colour, "scene setting"), (1, off_colour, "one sample / off")] {
-        chart
-            .draw_series(costs.iter().enumerate().map(|(i, c)| {
-                let i = i as u32;
-                let v = if half == 0 { c.1 } else { c.2 } * scale;
-                let (from, to, margin) = if half == 0 {
-                    (SegmentValue::Exact(i), SegmentValue::CenterOf(i), (outer, inner))
-                } else {
-                    (SegmentValue::CenterOf(i), SegmentValue::Exact(i + 1), (inner, outer))
-                };
-                let mut bar = Rectangle::new([(from, v), (to, 0.0)], colour.filled());
-                bar.set_margin(0, 0, margin.0, margin.1);
-                bar
-            }))?
-            .label(name)
-            .legend(move |(x, y)| Rectangle::new([(x - 7, y - 6), (x + 7, y + 6)], colour.filled()));
+        entries.push((name.to_owned(), Mark::Bar(colour)));
+        chart.draw_series(costs.iter().enumerate().map(|(i, c)| {
+            let i = i as u32;
+            let v = if half == 0 { c.1 } else { c.2 } * scale;
+            let (from, to, margin) = if half == 0 {
+                (SegmentValue::Exact(i), SegmentValue::CenterOf(i), (outer, inner))
+            } else {
+                (SegmentValue::CenterOf(i), SegmentValue::Exact(i + 1), (inner, outer))
+            };
+            let mut bar = Rectangle::new([(from, v), (to, 0.0)], colour.filled());
+            bar.set_margin(0, 0, margin.0, margin.1);
+            bar
+        }))?;
         chart.draw_series(costs.iter().enumerate().map(|(i, c)| {
             let v = if half == 0 { c.1 } else { c.2 } * scale;
             let dx = if half == 0 { -bar_centre - inner as i32 } else { bar_centre + inner as i32 };
@@ -478,19 +458,64 @@ fn draw_costs<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, report: &Report
         }))?;
     }
 
-    // The legend goes to the side whose end group is lower.
-    let first = costs.first().map_or(0.0, |c| c.1.max(c.2));
-    let last = costs.last().map_or(0.0, |c| c.1.max(c.2));
-    let position =
-        if last <= first { SeriesLabelPosition::UpperRight } else { SeriesLabelPosition::UpperLeft };
-    chart
-        .configure_series_labels()
-        .position(position)
-        .margin(12)
-        .label_font((FONT, 14).into_font().color(&INK))
-        .background_style(WHITE.mix(0.9))
-        .border_style(GRID_BOLD)
-        .draw()?;
+    draw_legend(&legend, &entries)
+}
+
+/// Width in pixels of the legend column right of every plot's axes.
+pub const LEGEND_WIDTH: u32 = 160;
+
+/// What a legend entry shows beside its name.
+enum Mark {
+    /// The Pareto front: a dashed grey line through a circle.
+    Front,
+    /// Series `k`: its colour's line and marker shape.
+    Series(usize),
+    /// A bar of this colour.
+    Bar(RGBColor),
+}
+
+/// Writes `title` over the whole width of `area` and splits what is under it into the
+/// chart's area and a [`LEGEND_WIDTH`] column on the right for the legend, so that the legend
+/// never covers data.
+#[allow(clippy::type_complexity)]
+fn with_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+) -> Result<(DrawingArea<DB, Shift>, DrawingArea<DB, Shift>), DrawingAreaErrorKind<DB::ErrorType>> {
+    let below = area.titled(title, (FONT, 22).into_font().color(&INK))?;
+    let width = below.dim_in_pixel().0;
+    Ok(below.split_horizontally(width.saturating_sub(LEGEND_WIDTH)))
+}
+
+/// Draws the legend `entries` (name and mark) top-down in `column`.
+fn draw_legend<DB: DrawingBackend>(column: &DrawingArea<DB, Shift>, entries: &[(String, Mark)]) -> Drawn<DB> {
+    let style = TextStyle::from((FONT, 14).into_font()).color(&INK).pos(Pos::new(HPos::Left, VPos::Center));
+    for (row, (name, mark)) in entries.iter().enumerate() {
+        let (x, y) = (16, 14 + 24 * row as i32);
+        match mark {
+            Mark::Front => {
+                let line = FRONT.stroke_width(2);
+                column.draw(
+                    &(EmptyElement::at((x, y))
+                        + PathElement::new(vec![(-12, 0), (-4, 0)], line)
+                        + PathElement::new(vec![(4, 0), (12, 0)], line)
+                        + Circle::new((0, 0), 6, line)),
+                )?;
+            }
+            Mark::Series(k) => {
+                let colour = PALETTE[k % PALETTE.len()];
+                column.draw(
+                    &(EmptyElement::at((x, y))
+                        + PathElement::new(vec![(-12, 0), (12, 0)], colour.stroke_width(2))
+                        + Polygon::new(marker_shape(*k), colour.filled())),
+                )?;
+            }
+            Mark::Bar(colour) => {
+                column.draw(&Rectangle::new([(x - 7, y - 6), (x + 7, y + 6)], colour.filled()))?
+            }
+        }
+        column.draw(&Text::new(name.clone(), (x + 20, y), style.clone()))?;
+    }
     Ok(())
 }
 
@@ -538,6 +563,8 @@ pub(crate) mod tests {
             params: vec![("samples".into(), label.rsplit(' ').next().unwrap_or("").into())],
             seconds,
             runs: 3,
+            times: vec![seconds; 3],
+            config: 0,
             rays: RayCounts { camera: rays / 2, shadow: rays - rays / 2, ..RayCounts::default() },
             rmse,
             psnr,
@@ -555,7 +582,7 @@ pub(crate) mod tests {
             height: 240,
             threads: 8,
             reference: Reference {
-                description: "aa 256 jittered, area light 256".into(),
+                description: "aa 256 jittered, area_light 256".into(),
                 seconds: 41.5,
                 rays: RayCounts { camera: 19_660_800, area_shadow: 80_000_000, ..RayCounts::default() },
                 image: "reference.png".into(),
@@ -641,6 +668,54 @@ pub(crate) mod tests {
                 "area_light (×7.4)",
             ],
         );
+    }
+
+    /// The x of every `<text>` whose content is `label`, and the right end of the axes (the
+    /// largest x of the grid and axis `<line>`s) in an SVG written by plotters.
+    fn text_x_and_axes_end(svg: &str, label: &str) -> (Vec<f64>, f64) {
+        let attr = |tag: &str, name: &str| -> Option<f64> {
+            let start = tag.find(&format!(" {name}=\""))? + name.len() + 3;
+            tag[start..].split('"').next()?.parse().ok()
+        };
+        let texts = svg
+            .split("<text")
+            .skip(1)
+            .filter(|t| {
+                t.split_once('>')
+                    .is_some_and(|(_, rest)| rest.trim_start().starts_with(&format!("{label}\n")))
+            })
+            .filter_map(|t| attr(t, "x"))
+            .collect();
+        let end = svg
+            .split("<line")
+            .skip(1)
+            .flat_map(|l| [attr(l, "x1"), attr(l, "x2")])
+            .flatten()
+            .fold(0.0, f64::max);
+        (texts, end)
+    }
+
+    #[test]
+    fn legends_sit_right_of_the_axes_never_over_the_data() {
+        let dir = tempfile::tempdir().unwrap();
+        let report = synthetic_report();
+        let plots = [
+            (error_vs_time(&report, dir.path()).unwrap(), vec!["Pareto front", "aa", "area_light"]),
+            (rays_vs_error(&report, dir.path()).unwrap(), vec!["aa", "area_light"]),
+            (effect_costs(&report, dir.path()).unwrap(), vec!["scene setting", "one sample / off"]),
+        ];
+        for (paths, labels) in plots {
+            let svg = std::fs::read_to_string(&paths[1]).unwrap();
+            for label in labels {
+                let (xs, axes_end) = text_x_and_axes_end(&svg, label);
+                assert!(axes_end > 400.0, "{}: no axes found", paths[1].display());
+                assert!(
+                    !xs.is_empty() && xs.iter().all(|&x| x > axes_end),
+                    "{}: legend `{label}` at x {xs:?}, axes end at {axes_end}",
+                    paths[1].display()
+                );
+            }
+        }
     }
 
     #[test]

@@ -1,15 +1,18 @@
-//! Running a report: the reference, every variant of the sweep (median time of k renders,
-//! rays, RMSE, PSNR, SSIM, images and heat maps) and each effect's cost.
+//! Running a report: the reference, then every distinct configuration of the sweep and of the
+//! effect costs, rendered once per round in interleaved rounds (`A B C A B C …`); each point
+//! gets the median time over the rounds, its rays, RMSE, PSNR, SSIM, image and heat map.
 
 use std::path::Path;
+use std::sync::Arc;
 use std::time::Instant;
 
-use super::sweep::{cheapest, SweepDesc, Variant};
+use super::sweep::{cheapest, SweepDesc};
 use super::{EffectCost, Point, Reference, Report};
 use crate::film::metrics::{error_heatmap, psnr, rmse, ssim};
 use crate::film::{write_atomically, write_png, Film, OutputError};
 use crate::scene::{spawn_world, SceneDesc};
-use crate::trace::{render, Effects, RenderStats};
+use crate::store::SoaStore;
+use crate::trace::{render, Effects, RenderSettings, RenderStats, TraceScene};
 use crate::world::SceneWorld;
 
 /// Errors of a report run.
@@ -30,6 +33,15 @@ pub enum ReportError {
         /// The report's size.
         expected: String,
     },
+    /// The reference file cannot be used (not a PNG or EXR, unreadable, or tone-mapped in a
+    /// way that cannot be undone).
+    #[error("{path}: {message}")]
+    Reference {
+        /// The reference file.
+        path: String,
+        /// Why, and what to use instead.
+        message: String,
+    },
     /// An image could not be encoded.
     #[error("{path}: cannot encode: {message}")]
     Encode {
@@ -40,23 +52,87 @@ pub enum ReportError {
     },
 }
 
+/// Interleaved repetitions a report makes by default.
+pub const DEFAULT_RUNS: usize = 3;
+
 /// How a report runs.
 #[derive(Debug, Clone)]
 pub struct Options {
-    /// Renders per point; the time is their median.
+    /// Interleaved repetitions: each round renders every distinct configuration once, and a
+    /// point's time is the median over the rounds.
     pub runs: usize,
-    /// A reference image read instead of rendered (its film and the file name).
+    /// A reference image read instead of rendered (its film and a description of the file).
     pub reference: Option<(Film, String)>,
 }
 
-/// What the caller is told before each render: a label and how many renders are done so far.
+impl Default for Options {
+    fn default() -> Self {
+        Self { runs: DEFAULT_RUNS, reference: None }
+    }
+}
+
+/// What the caller is told before each render: the label of the configuration rendered.
 pub type Progress<'a> = &'a (dyn Fn(&str) + Sync);
+
+/// The distinct configurations a report renders, and which one each sweep variant and each
+/// effect cost uses. Two entries with the same effective scene share one configuration, so
+/// a sweep that names a setting twice (or names the scene's own setting) renders it once.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    /// Label and scene of each distinct configuration, in the order first named.
+    pub configs: Vec<(String, SceneDesc)>,
+    /// The configuration of each variant of the sweep, in sweep order.
+    pub variants: Vec<usize>,
+    /// Each measured effect: its axis and the configurations with its setting on and off.
+    pub costs: Vec<(&'static str, usize, usize)>,
+}
+
+/// The plan of a report on `desc` with `sweep`.
+pub fn plan(desc: &SceneDesc, sweep: &SweepDesc) -> Plan {
+    let mut configs: Vec<(String, SceneDesc)> = Vec::new();
+    let mut add = |label: String, scene: SceneDesc| match configs.iter().position(|(_, s)| *s == scene) {
+        Some(i) => i,
+        None => {
+            configs.push((label, scene));
+            configs.len() - 1
+        }
+    };
+    let variants = sweep.variants().iter().map(|v| add(v.label(), v.apply(desc))).collect();
+    let axes = cost_axes(desc, sweep);
+    let mut costs = Vec::new();
+    if !axes.is_empty() {
+        let on = add("scene as is".into(), desc.clone());
+        for axis in axes {
+            // `cost_axes` only returns axes that `cheapest` knows.
+            let off = cheapest(axis, desc).unwrap_or_else(|| desc.clone());
+            costs.push((axis, on, add(format!("{axis} off"), off)));
+        }
+    }
+    Plan { configs, variants, costs }
+}
+
+/// The order of `runs` interleaved rounds over `configs` configurations: every configuration
+/// once per round (`0 1 2 0 1 2 …`), so a slow spell of the machine affects every
+/// configuration alike instead of whichever happened to run then.
+pub fn schedule(configs: usize, runs: usize) -> Vec<usize> {
+    (0..runs.max(1)).flat_map(|_| 0..configs).collect()
+}
+
+/// The median of `times` (the mean of the middle two for an even count; 0 when empty).
+pub fn median(times: &[f64]) -> f64 {
+    let mut sorted = times.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    match sorted.len() {
+        0 => 0.0,
+        n if n % 2 == 1 => sorted[n / 2],
+        n => (sorted[n / 2 - 1] + sorted[n / 2]) / 2.0,
+    }
+}
 
 /// The number of renders [`run`] makes, for progress bars.
 pub fn render_count(desc: &SceneDesc, sweep: &SweepDesc, options: &Options) -> usize {
     let reference = usize::from(options.reference.is_none());
-    let costs = cost_axes(desc, sweep).len();
-    reference + sweep.variants().len() * options.runs + if costs > 0 { (costs + 1) * options.runs } else { 0 }
+    reference + plan(desc, sweep).configs.len() * options.runs.max(1)
 }
 
 /// The effects of a scene description.
@@ -65,23 +141,13 @@ pub fn effects_of(desc: &SceneDesc) -> Effects {
     world.update().effects
 }
 
-/// Renders `desc` `runs` times; the first film, its statistics and the median seconds.
-fn timed(desc: &SceneDesc, runs: usize, label: &str, progress: Progress) -> (Film, RenderStats, f64) {
+/// A scene ready to render: its snapshot and settings.
+type Prepared = (Arc<TraceScene<SoaStore>>, RenderSettings);
+
+fn prepare(desc: &SceneDesc) -> Prepared {
     let mut world: SceneWorld = spawn_world(desc);
     let snapshot = world.update();
-    let settings = world.render_settings();
-    let mut times = Vec::with_capacity(runs);
-    let mut first = None;
-    for _ in 0..runs.max(1) {
-        progress(label);
-        let started = Instant::now();
-        let (film, stats) = render(&snapshot, &settings);
-        times.push(started.elapsed().as_secs_f64());
-        first.get_or_insert((film, stats));
-    }
-    times.sort_by(f64::total_cmp);
-    let (film, stats) = first.expect("at least one run");
-    (film, stats, times[times.len() / 2])
+    (snapshot, world.render_settings())
 }
 
 /// Axes whose cost is measured: those in the sweep that the scene's own settings use.
@@ -118,8 +184,21 @@ fn write_heatmap(image: &Film, reference: &Film, path: &Path) -> Result<(), Repo
     Ok(write_atomically(path, &png)?)
 }
 
+/// What the first render of a configuration gave: its rays and, when a variant uses it, its
+/// error against the reference and its image files.
+struct Measured {
+    stats: RenderStats,
+    rmse: f64,
+    psnr: f64,
+    ssim: f64,
+    image: String,
+    heatmap: String,
+}
+
 /// Runs the report for scene `desc` (named `scene` in the report) into folder `out` (which
-/// must exist): images and heat maps there, the figures returned.
+/// must exist): images and heat maps there, the figures returned. The reference is rendered
+/// (or taken from `options`) first; then `options.runs` rounds each render every distinct
+/// configuration of [`plan`] once, in [`schedule`] order.
 pub fn run(
     desc: &SceneDesc,
     scene: &str,
@@ -149,7 +228,11 @@ pub fn run(
             (film.clone(), info)
         }
         None => {
-            let (film, stats, seconds) = timed(&sweep.reference.apply(desc), 1, "reference", progress);
+            let (snapshot, settings) = prepare(&sweep.reference.apply(desc));
+            progress("reference");
+            let started = Instant::now();
+            let (film, stats) = render(&snapshot, &settings);
+            let seconds = started.elapsed().as_secs_f64();
             write_png(&film, &out.join("reference.png"))?;
             let info = Reference {
                 description: sweep.reference.describe(&effects),
@@ -162,21 +245,55 @@ pub fn run(
     };
     let (reference_film, reference_info) = reference;
 
-    let mut points = Vec::new();
-    for (i, variant) in sweep.variants().iter().enumerate() {
-        points.push(measure(i, variant, desc, &reference_film, options.runs, out, progress)?);
+    // The image files of a configuration are named after the first variant that uses it.
+    let plan = plan(desc, sweep);
+    let variants = sweep.variants();
+    let mut stems: Vec<Option<String>> = vec![None; plan.configs.len()];
+    for (i, (&c, variant)) in plan.variants.iter().zip(&variants).enumerate() {
+        stems[c].get_or_insert_with(|| format!("{i:02}-{}", slug(&variant.label())));
     }
-
-    let mut costs = Vec::new();
-    let axes = cost_axes(desc, sweep);
-    if !axes.is_empty() {
-        let (_, _, seconds_on) = timed(desc, options.runs, "scene as is", progress);
-        for axis in axes {
-            let off = cheapest(axis, desc).expect("cost axes are known");
-            let (_, _, seconds_off) = timed(&off, options.runs, &format!("{axis} off"), progress);
-            costs.push(EffectCost { effect: axis.into(), seconds_on, seconds_off });
+    let prepared: Vec<Prepared> = plan.configs.iter().map(|(_, d)| prepare(d)).collect();
+    let mut times = vec![Vec::with_capacity(options.runs.max(1)); plan.configs.len()];
+    let mut measured: Vec<Option<Measured>> = (0..plan.configs.len()).map(|_| None).collect();
+    for c in schedule(plan.configs.len(), options.runs) {
+        progress(&plan.configs[c].0);
+        let (snapshot, settings) = &prepared[c];
+        let started = Instant::now();
+        let (film, stats) = render(snapshot, settings);
+        times[c].push(started.elapsed().as_secs_f64());
+        if measured[c].is_none() {
+            measured[c] = Some(measure(film, stats, stems[c].as_deref(), &reference_film, out)?);
         }
     }
+
+    let mut points = Vec::new();
+    for (variant, &c) in variants.iter().zip(&plan.variants) {
+        let Some(m) = &measured[c] else { continue };
+        points.push(Point {
+            axis: variant.axis.to_owned(),
+            label: variant.label(),
+            params: variant.params(),
+            seconds: median(&times[c]),
+            runs: times[c].len(),
+            times: times[c].clone(),
+            config: c,
+            rays: m.stats.rays,
+            rmse: m.rmse,
+            psnr: m.psnr,
+            ssim: m.ssim,
+            image: m.image.clone(),
+            heatmap: m.heatmap.clone(),
+        });
+    }
+    let costs = plan
+        .costs
+        .iter()
+        .map(|&(axis, on, off)| EffectCost {
+            effect: axis.into(),
+            seconds_on: median(&times[on]),
+            seconds_off: median(&times[off]),
+        })
+        .collect();
     Ok(Report {
         scene: scene.to_owned(),
         width,
@@ -188,32 +305,34 @@ pub fn run(
     })
 }
 
+/// The rays of a configuration's first render and, where `stem` names its files, its error
+/// against the reference, its image and its heat map.
 fn measure(
-    index: usize,
-    variant: &Variant,
-    desc: &SceneDesc,
+    film: Film,
+    stats: RenderStats,
+    stem: Option<&str>,
     reference: &Film,
-    runs: usize,
     out: &Path,
-    progress: Progress,
-) -> Result<Point, ReportError> {
-    let label = variant.label();
-    let (film, stats, seconds) = timed(&variant.apply(desc), runs, &label, progress);
-    let stem = format!("{index:02}-{}", slug(&label));
+) -> Result<Measured, ReportError> {
+    let Some(stem) = stem else {
+        return Ok(Measured {
+            stats,
+            rmse: 0.0,
+            psnr: 0.0,
+            ssim: 0.0,
+            image: String::new(),
+            heatmap: String::new(),
+        });
+    };
     let (image, heatmap) = (format!("{stem}.png"), format!("{stem}.heat.png"));
     write_png(&film, &out.join(&image))?;
     write_heatmap(&film, reference, &out.join(&heatmap))?;
-    let same_size = "sizes checked above";
-    Ok(Point {
-        axis: variant.axis.to_owned(),
-        label,
-        params: variant.params(),
-        seconds,
-        runs: runs.max(1),
-        rays: stats.rays,
-        rmse: rmse(&film, reference).expect(same_size),
-        psnr: psnr(&film, reference).expect(same_size),
-        ssim: ssim(&film, reference).expect(same_size),
+    let sizes = |path: &str| ReportError::Encode { path: path.to_owned(), message: "sizes differ".into() };
+    Ok(Measured {
+        stats,
+        rmse: rmse(&film, reference).ok_or_else(|| sizes(&image))?,
+        psnr: psnr(&film, reference).ok_or_else(|| sizes(&image))?,
+        ssim: ssim(&film, reference).ok_or_else(|| sizes(&image))?,
         image,
         heatmap,
     })
@@ -223,7 +342,7 @@ fn measure(
 pub fn csv(report: &Report) -> String {
     let kinds = crate::trace::RayCounts::default().kinds().map(|(k, _)| format!("rays_{k}"));
     let mut out = format!(
-        "axis,label,params,seconds,runs,rays_total,rmse,psnr,ssim,pareto,image,heatmap,{}\n",
+        "axis,label,params,seconds,runs,config,rays_total,rmse,psnr,ssim,pareto,image,heatmap,{}\n",
         kinds.join(",")
     );
     let front = report.pareto_front();
@@ -231,12 +350,13 @@ pub fn csv(report: &Report) -> String {
         let params: Vec<String> = p.params.iter().map(|(k, v)| format!("{k}={v}")).collect();
         let psnr = if p.psnr.is_infinite() { "inf".to_owned() } else { format!("{:.4}", p.psnr) };
         out += &format!(
-            "{},{},{},{:.6},{},{},{:.6e},{psnr},{:.6},{},{},{},{}\n",
+            "{},{},{},{:.6},{},{},{},{:.6e},{psnr},{:.6},{},{},{},{}\n",
             p.axis,
             p.label,
             params.join(" "),
             p.seconds,
             p.runs,
+            p.config,
             p.rays.total(),
             p.rmse,
             p.ssim,
@@ -247,4 +367,43 @@ pub fn csv(report: &Report) -> String {
         );
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::parse_scene;
+
+    const SCENE: &str = r#"Scene(
+        camera: (position: (0, 1, -4), look_at: (0, 0.5, 0), fov_deg: 40, width: 8, height: 6),
+        settings: (aa: (samples: 2)),
+        materials: [(name: "m", kd: (0.8, 0.8, 0.8))],
+        lights: [Rect(corner: (-1, 3, -1), edge_u: (2, 0, 0), edge_v: (0, 0, 2), samples: 4)],
+        objects: [(name: "ball", shape: Sphere(centre: (0, 0.5, 0), radius: 0.5), material: "m")],
+    )"#;
+
+    #[test]
+    fn rounds_render_every_configuration_once_each() {
+        assert_eq!(schedule(3, 2), [0, 1, 2, 0, 1, 2]);
+        assert_eq!(schedule(2, 0), [0, 1], "at least one round");
+        assert_eq!(median(&[0.287, 0.122, 0.125]), 0.125);
+        assert_eq!(median(&[4.0, 1.0, 2.0, 3.0]), 2.5);
+        assert_eq!(median(&[]), 0.0);
+    }
+
+    #[test]
+    fn equal_settings_share_one_configuration() {
+        let desc = parse_scene(SCENE, "s.ron").unwrap();
+        let sweep =
+            SweepDesc::parse("Sweep(axes: [Aa(samples: [2, 2, 8]), AreaLight(samples: [4, 16])])", "w.ron")
+                .unwrap();
+        let plan = plan(&desc, &sweep);
+        // aa 2 jittered is the scene as is, and so is area_light 4 (the light's own count).
+        assert_eq!(plan.variants, [0, 0, 1, 0, 2]);
+        let labels: Vec<&str> = plan.configs.iter().map(|(l, _)| l.as_str()).collect();
+        assert_eq!(labels, ["aa 2 jittered", "aa 8 jittered", "area_light 16", "aa off", "area_light off"]);
+        assert_eq!(plan.costs, [("aa", 0, 3), ("area_light", 0, 4)]);
+        let options = Options { runs: 3, reference: None };
+        assert_eq!(render_count(&desc, &sweep, &options), 1 + 5 * 3);
+    }
 }

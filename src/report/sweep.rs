@@ -214,12 +214,13 @@ fn pattern_name(p: Pattern) -> &'static str {
 }
 
 impl Variant {
-    /// Label for tables and plots, e.g. `aa 16 jittered`.
+    /// Label for tables and plots, e.g. `aa 16 jittered` or `area_light 4`: the axis name is
+    /// the effect name `penumbra render --samples` takes.
     pub fn label(&self) -> String {
         match self.setting {
             Setting::Aa(n, p) => format!("aa {n} {}", pattern_name(p)),
             Setting::Adaptive(t, d) => format!("adaptive {t}:{d}"),
-            Setting::AreaLight(n) => format!("area light {n}"),
+            Setting::AreaLight(n) => format!("area_light {n}"),
             Setting::Glossy(n) => format!("glossy {n}"),
             Setting::Lens(n) => format!("lens {n}"),
         }
@@ -300,14 +301,14 @@ impl ReferenceSettings {
         d
     }
 
-    /// `aa 64, lens 16, …`, naming only the effects the scene uses.
+    /// `aa 64 jittered, lens 16, area_light 256, …`, naming only the effects the scene uses.
     pub fn describe(&self, effects: &Effects) -> String {
         let mut parts = vec![format!("aa {} jittered", self.aa)];
         if effects.lens {
             parts.push(format!("lens {}", self.lens));
         }
         if effects.area_lights {
-            parts.push(format!("area light {}", self.area_light));
+            parts.push(format!("area_light {}", self.area_light));
         }
         if effects.glossy || effects.blurry {
             parts.push(format!("glossy {}", self.glossy));
