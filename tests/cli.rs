@@ -91,9 +91,11 @@ fn a_missing_scene_file_fails_without_output() {
 #[test]
 fn an_unwritable_output_path_fails_cleanly() {
     let dir = tempfile::tempdir().unwrap();
-    let out = run(dir.path(), &["render", "-o", "missing/dir/img.png", "--width", "8"]);
-    assert!(!out.status.success());
-    assert!(stderr(&out).contains("missing/dir/img.png"), "{}", stderr(&out));
+    // Missing folders are created; a file where a folder should be cannot be written through.
+    std::fs::write(dir.path().join("blocker"), "a file").unwrap();
+    let out = run(dir.path(), &["render", "-o", "blocker/dir/img.png", "--width", "8"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr(&out).contains("blocker/dir/img.png"), "{}", stderr(&out));
     assert!(!out.stderr.is_empty() && !String::from_utf8_lossy(&out.stderr).contains("panicked"));
 }
 

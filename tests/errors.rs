@@ -385,13 +385,21 @@ fn rows() -> Vec<Row> {
         row("report --reference that is no image", 2, &with(REPORT, &["--reference", "{dir}/s.ron"]))
             .valid_inputs()
             .says(&["{dir}/s.ron: not a PNG or EXR file", "--reference takes a linear EXR", "8/16-bit sRGB PNG"]),
+        flag_row("--format contradicts the extension", &["--format", "exr-half"], &["--format exr-half", "contradicts the extension of {dir}/out.png"]),
+        row("-o y.exr --format png16", 2, &["render", "{dir}/s.ron", "-o", "{dir}/out.exr", "--format", "png16"])
+            .valid_inputs()
+            .says(&["--format png16", "contradicts the extension of {dir}/out.exr"]),
+        row("status of a missing folder", 2, &["status", "{dir}/no/such/frames"]).says(&["{dir}/no/such/frames: no such folder"]),
         row("info on a file that is no image", 2, &["info", "{dir}/s.ron"])
             .valid_inputs()
             .says(&["{dir}/s.ron", "neither a PNG nor an EXR file"]),
         // Failures to write: exit 1.
-        row("output in a missing folder", 1, &["render", "{dir}/s.ron", "-o", "{dir}/no/such/out.png"])
+        row("output folder is a file", 1, &["render", "{dir}/s.ron", "-o", "{dir}/s.ron/out.png"])
             .valid_inputs()
-            .says(&["{dir}/no/such/out.png", "cannot write output"]),
+            .says(&["{dir}/s.ron/out.png", "cannot write output"]),
+        row("stats folder is a file", 1, &with(RENDER, &["--stats", "{dir}/s.ron/stats.json"]))
+            .valid_inputs()
+            .says(&["{dir}/s.ron/stats.json", "cannot write output"]),
         row("output in a read-only location", 1, &["render", "{dir}/s.ron", "-o", "/proc/penumbra-out.png"])
             .valid_inputs()
             .says(&["/proc/penumbra-out.png", "cannot write output"]),
@@ -407,12 +415,12 @@ fn position(text: &str, needle: &str) -> (usize, usize) {
     (line, col)
 }
 
-/// Image files under `path` (itself included).
+/// Image files under `path` (itself included): not the manifest's JSON files and locks.
 fn images(path: &Path) -> Vec<String> {
     if path.is_dir() {
         let entries = std::fs::read_dir(path).expect("readable folder");
         entries.filter_map(Result::ok).flat_map(|e| images(&e.path())).collect()
-    } else if path.exists() && path.extension().is_none_or(|e| e != "json") {
+    } else if path.exists() && path.extension().is_none_or(|e| e != "json" && e != "lock") {
         vec![path.display().to_string()]
     } else {
         Vec::new()
@@ -453,7 +461,7 @@ fn check(row: &Row) -> Vec<String> {
             problems.push(format!("stderr lacks `{part}`"));
         }
     }
-    for output in ["out.png", "out"] {
+    for output in ["out.png", "out.exr", "out"] {
         let written = images(&tmp.path().join(output));
         if !written.is_empty() {
             problems.push(format!("wrote {written:?}"));

@@ -67,7 +67,7 @@ proptest! {
         let forward = crossings(&scene, &Ray::new(p - d * 40.0, d));
         let backward = crossings(&scene, &Ray::new(p + d * 40.0, -d));
         prop_assert_eq!(forward.len(), backward.len(), "{:?} vs {:?}", forward, backward);
-        prop_assert!(forward.len() % 2 == 0, "a closed mesh is crossed an even number of times: {:?}", forward);
+        prop_assert!(forward.len().is_multiple_of(2), "a closed mesh is crossed an even number of times: {:?}", forward);
         for (f, b) in forward.iter().zip(backward.iter().rev()) {
             prop_assert!((f + b - 80.0).abs() < 1e-3, "crossing at {} forward, {} backward", f, b);
         }

@@ -292,7 +292,7 @@ mod tests {
                 Aabb::new(c, c + Vec3::splat(0.2 + (i % 5) as f32 * 0.3))
             })
             .collect();
-        let overlaps = |id: u32, cell: &Aabb| (id + cell.min.x as u32) % 7 != 0;
+        let overlaps = |id: u32, cell: &Aabb| !(id + cell.min.x as u32).is_multiple_of(7);
         let parallel = GridBuilder::new(2.0).build(&bounds, overlaps);
         let empty = UniformGrid {
             cell_start: Vec::new(),

@@ -1,11 +1,22 @@
 //! The manifest of a frames folder: what the job is (`.penumbra/job.json`) and, per finished
 //! frame, what it was made from (`.penumbra/frame_0042.json`). Each file is written atomically
-//! on its own, so shards on many machines share a folder without locks.
+//! on its own, so shards on many machines share a folder.
 //!
 //! A frame is *done* when its image and its entry exist and the entry's inputs hash equals
-//! the hash of the current scene, script and options for that frame; *stale* when they exist
-//! but the inputs changed; *missing* otherwise. The entry is written after the image, so a
-//! run killed between the two leaves a frame that counts as missing and is rendered again.
+//! the hash of the current inputs (scene, script, every mesh file) and options for that frame;
+//! *stale* when they exist but the inputs changed (the entry lists each input's hash, so
+//! [`status`] names the files that changed); *missing* otherwise. The entry is written after
+//! the image, so a run killed between the two leaves a frame that counts as missing and is
+//! rendered again.
+//!
+//! Runs that overlap on one folder (two `animate` processes, or shards whose ranges overlap)
+//! coordinate through advisory locks (`flock` on Unix) in `.penumbra/`: each run holds
+//! `run.lock` shared while it works, and a frame is rendered only by the run that holds its
+//! `locks/frame_0042.lock`; the other skips it. The kernel drops a killed process's locks. A
+//! run that finds no other run active (it gets `run.lock` exclusively) first removes the
+//! temporary files earlier, killed runs left behind. On a network file system the locks work
+//! where it supports `flock` (NFSv4, Lustre mounted with `flock`); without it overlapping runs
+//! may render a frame twice, but every write stays atomic, so the folder is never corrupt.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -14,16 +25,14 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
 use crate::film::{write_atomically, OutputError};
+use crate::scene::inputs::{InputFile, InputRole, Inputs};
 use crate::script::FrameRange;
 use crate::trace::RenderStats;
 
 /// The folder inside a frames folder that holds the manifest.
 pub const MANIFEST_DIR: &str = ".penumbra";
 
-/// Hex SHA-256 of `bytes`.
-pub fn sha256_hex(bytes: &[u8]) -> String {
-    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
-}
+pub use crate::scene::inputs::sha256_hex;
 
 /// File name of frame `n` of `range`: `frame_0042.png`, with at least four digits and as many
 /// as the range's last frame needs, so names sort in frame order.
@@ -55,16 +64,19 @@ pub struct JobSpec {
     pub options: String,
     /// Image file extension.
     pub extension: String,
+    /// Every input file (scene, script, meshes) with its absolute path and its hash when the
+    /// job was last started; [`status`] reads them again from there. Empty in folders written
+    /// before inputs were recorded (then the scene and script above are the inputs).
+    #[serde(default)]
+    pub inputs: Vec<InputFile>,
 }
 
 impl JobSpec {
-    /// The inputs hash of frame `n`: version, scene and script contents, fps, options and the
-    /// frame number.
-    pub fn inputs_hash(&self, scene: &[u8], script: &[u8], n: u32) -> String {
+    /// The inputs hash of frame `n`: version, the contents of every input file
+    /// ([`Inputs::fingerprint`]), fps, options and the frame number.
+    pub fn inputs_hash(&self, inputs: &Inputs, n: u32) -> String {
         let mut h = Sha256::new();
-        for part in
-            [self.version.as_bytes(), &sha256_hex(scene).into_bytes(), &sha256_hex(script).into_bytes()]
-        {
+        for part in [self.version.as_bytes(), inputs.fingerprint().as_bytes()] {
             h.update((part.len() as u64).to_le_bytes());
             h.update(part);
         }
@@ -106,6 +118,10 @@ pub struct FrameEntry {
     pub host: String,
     /// Shard that rendered it (`INDEX/COUNT`).
     pub shard: String,
+    /// The input files it was made from, with their hashes (empty in entries written before
+    /// inputs were recorded).
+    #[serde(default)]
+    pub files: Vec<InputFile>,
 }
 
 impl FrameEntry {
@@ -125,6 +141,12 @@ pub enum ManifestError {
         path: PathBuf,
         /// Why.
         source: std::io::Error,
+    },
+    /// The frames folder does not exist.
+    #[error("{}: no such folder", path.display())]
+    NoFolder {
+        /// The folder.
+        path: PathBuf,
     },
     /// A manifest file is not what it should be.
     #[error("{path}: not a Penumbra manifest file ({reason})")]
@@ -206,6 +228,48 @@ impl Manifest {
         })
     }
 
+    /// Joins the runs working on this folder: holds `run.lock` shared until the returned lock
+    /// is dropped. When no other run is active it first removes the temporary files killed runs
+    /// left (the lock's `removed` lists them).
+    pub fn join_runs(&self) -> Result<RunLock, ManifestError> {
+        let path = self.dir.join(MANIFEST_DIR).join("run.lock");
+        let io = |source| ManifestError::Io { path: path.clone(), source };
+        let file =
+            std::fs::OpenOptions::new().create(true).truncate(false).write(true).open(&path).map_err(io)?;
+        let mut removed = Vec::new();
+        match file.try_lock() {
+            Ok(()) => {
+                // Alone: every temporary file here belongs to a run that is gone.
+                for name in self.stray_temporaries() {
+                    let at = [self.dir.join(&name), self.dir.join(MANIFEST_DIR).join(&name)];
+                    if at.iter().any(|p| std::fs::remove_file(p).is_ok()) {
+                        removed.push(name);
+                    }
+                }
+                file.lock_shared().map_err(io)?;
+            }
+            Err(std::fs::TryLockError::WouldBlock) => file.lock_shared().map_err(io)?,
+            Err(std::fs::TryLockError::Error(e)) => return Err(io(e)),
+        }
+        Ok(RunLock { _file: file, removed })
+    }
+
+    /// Claims frame `n` for this run: `Some` while no other run renders it (the claim lasts
+    /// until dropped), `None` when another run holds it.
+    pub fn claim(&self, n: u32) -> Result<Option<FrameClaim>, ManifestError> {
+        let dir = self.dir.join(MANIFEST_DIR).join("locks");
+        std::fs::create_dir_all(&dir).map_err(|source| ManifestError::Io { path: dir.clone(), source })?;
+        let path = dir.join(format!("frame_{n:04}.lock"));
+        let io = |source| ManifestError::Io { path: path.clone(), source };
+        let file =
+            std::fs::OpenOptions::new().create(true).truncate(false).write(true).open(&path).map_err(io)?;
+        match file.try_lock() {
+            Ok(()) => Ok(Some(FrameClaim { _file: file })),
+            Err(std::fs::TryLockError::WouldBlock) => Ok(None),
+            Err(std::fs::TryLockError::Error(e)) => Err(io(e)),
+        }
+    }
+
     /// Temporary files left in the folder by runs killed while writing (`.penumbra-*.tmp`).
     pub fn stray_temporaries(&self) -> Vec<String> {
         let mut found: Vec<String> = [self.dir.clone(), self.dir.join(MANIFEST_DIR)]
@@ -219,6 +283,20 @@ impl Manifest {
         found.sort();
         found
     }
+}
+
+/// A run's share of a frames folder ([`Manifest::join_runs`]); released when dropped.
+#[derive(Debug)]
+pub struct RunLock {
+    _file: std::fs::File,
+    /// Temporary files of killed runs removed on joining (empty when another run was active).
+    pub removed: Vec<String>,
+}
+
+/// A run's exclusive claim on one frame ([`Manifest::claim`]); released when dropped.
+#[derive(Debug)]
+pub struct FrameClaim {
+    _file: std::fs::File,
 }
 
 fn read_json<T: for<'de> Deserialize<'de>>(path: &Path) -> Result<Option<T>, ManifestError> {
@@ -256,34 +334,79 @@ pub struct Status {
     pub missing: Vec<u32>,
     /// Frames whose inputs changed.
     pub stale: Vec<u32>,
+    /// The inputs (`role name`, e.g. `mesh bunny.obj`) whose contents differ from what stale
+    /// frames were made from; empty when only the options or the program version changed (or
+    /// the frames predate per-file records).
+    pub changed: Vec<String>,
     /// Temporary files left by killed runs.
     pub stray_temporaries: Vec<String>,
 }
 
-/// The status of a frames folder against the current scene and script files.
+/// The current inputs of `job`: each recorded input file read again at its path (for folders
+/// that predate per-file records, the scene and the script).
+pub fn current_inputs(job: &JobSpec) -> Result<Inputs, ManifestError> {
+    let recorded = match job.inputs.is_empty() {
+        false => job.inputs.clone(),
+        true => [(InputRole::Scene, &job.scene), (InputRole::Script, &job.script)]
+            .into_iter()
+            .map(|(role, path)| InputFile {
+                role,
+                name: path.display().to_string(),
+                path: Some(path.clone()),
+                sha256: String::new(),
+            })
+            .collect(),
+    };
+    let mut files = Vec::with_capacity(recorded.len());
+    for file in recorded {
+        let path = file.path.clone().unwrap_or_else(|| PathBuf::from(&file.name));
+        let bytes =
+            std::fs::read(&path).map_err(|source| ManifestError::Io { path: path.clone(), source })?;
+        files.push(InputFile { sha256: sha256_hex(&bytes), ..file });
+    }
+    Ok(Inputs { files })
+}
+
+/// The status of a frames folder against the current input files.
 pub fn status(dir: &Path) -> Result<Status, ManifestError> {
+    if !dir.is_dir() {
+        return Err(ManifestError::NoFolder { path: dir.to_path_buf() });
+    }
     let manifest = Manifest::open(dir);
     let job = manifest.read_job()?.ok_or_else(|| ManifestError::Corrupt {
         path: manifest.job_path(),
         reason: "no job recorded: this folder was not written by `penumbra animate`".into(),
     })?;
-    let read = |path: &Path| {
-        std::fs::read(path).map_err(|source| ManifestError::Io { path: path.to_path_buf(), source })
-    };
-    let (scene, script) = (read(&job.scene)?, read(&job.script)?);
+    let inputs = current_inputs(&job)?;
     let mut out = Status {
         dir: dir.to_path_buf(),
         frames: job.frames,
         done: Vec::new(),
         missing: Vec::new(),
         stale: Vec::new(),
+        changed: Vec::new(),
         stray_temporaries: manifest.stray_temporaries(),
     };
     for n in job.frames.iter() {
-        match manifest.frame_state(&job, n, &job.inputs_hash(&scene, &script, n))? {
+        match manifest.frame_state(&job, n, &job.inputs_hash(&inputs, n))? {
             FrameState::Done => out.done.push(n),
             FrameState::Missing => out.missing.push(n),
-            FrameState::Stale => out.stale.push(n),
+            FrameState::Stale => {
+                out.stale.push(n);
+                let made_from = manifest.read_entry(n)?.map(|e| e.files).unwrap_or_default();
+                for now in &inputs.files {
+                    let label = now.label();
+                    let then = made_from.iter().find(|f| f.role == now.role && f.name == now.name);
+                    let differs = match then {
+                        Some(then) => then.sha256 != now.sha256,
+                        // Not among the frame's inputs: a mesh the scene did not name then.
+                        None => !made_from.is_empty(),
+                    };
+                    if differs && !out.changed.contains(&label) {
+                        out.changed.push(label);
+                    }
+                }
+            }
         }
     }
     Ok(out)
@@ -323,22 +446,36 @@ mod tests {
             fps: 24.0,
             options: "width 8".into(),
             extension: "png".into(),
+            inputs: Vec::new(),
         }
+    }
+
+    fn inputs(scene: &[u8], script: &[u8], meshes: &[&[u8]]) -> Inputs {
+        let file = |role, name: &str, bytes: &[u8]| InputFile {
+            role,
+            name: name.into(),
+            path: None,
+            sha256: sha256_hex(bytes),
+        };
+        let mut files =
+            vec![file(InputRole::Scene, "s.ron", scene), file(InputRole::Script, "s.rhai", script)];
+        files.extend(meshes.iter().enumerate().map(|(i, m)| file(InputRole::Mesh, &format!("m{i}.obj"), m)));
+        Inputs { files }
     }
 
     #[test]
     fn inputs_hash_changes_with_every_input() {
         let dir = Path::new("/x");
-        let base = job(dir).inputs_hash(b"scene", b"script", 1);
-        assert_eq!(base, job(dir).inputs_hash(b"scene", b"script", 1));
-        assert_ne!(base, job(dir).inputs_hash(b"scene!", b"script", 1));
-        assert_ne!(base, job(dir).inputs_hash(b"scene", b"script!", 1));
-        assert_ne!(base, job(dir).inputs_hash(b"scene", b"script", 2));
-        assert_ne!(base, JobSpec { fps: 30.0, ..job(dir) }.inputs_hash(b"scene", b"script", 1));
-        assert_ne!(
-            base,
-            JobSpec { options: "width 9".into(), ..job(dir) }.inputs_hash(b"scene", b"script", 1)
-        );
+        let i = inputs(b"scene", b"script", &[b"mesh"]);
+        let base = job(dir).inputs_hash(&i, 1);
+        assert_eq!(base, job(dir).inputs_hash(&inputs(b"scene", b"script", &[b"mesh"]), 1));
+        assert_ne!(base, job(dir).inputs_hash(&inputs(b"scene!", b"script", &[b"mesh"]), 1));
+        assert_ne!(base, job(dir).inputs_hash(&inputs(b"scene", b"script!", &[b"mesh"]), 1));
+        assert_ne!(base, job(dir).inputs_hash(&inputs(b"scene", b"script", &[b"mesh!"]), 1));
+        assert_ne!(base, job(dir).inputs_hash(&inputs(b"scene", b"script", &[b"mesh", b"m"]), 1));
+        assert_ne!(base, job(dir).inputs_hash(&i, 2));
+        assert_ne!(base, JobSpec { fps: 30.0, ..job(dir) }.inputs_hash(&i, 1));
+        assert_ne!(base, JobSpec { options: "width 9".into(), ..job(dir) }.inputs_hash(&i, 1));
     }
 
     #[test]
@@ -362,16 +499,101 @@ mod tests {
             mrays_per_s: 1.0,
             host: "h".into(),
             shard: "0/1".into(),
+            files: Vec::new(),
         };
         for n in [0, 1, 2] {
             std::fs::write(dir.join(j.file_name(n)), "png").unwrap();
         }
-        m.write_entry(&entry(0, j.inputs_hash(b"scene", b"script", 0))).unwrap();
-        m.write_entry(&entry(1, j.inputs_hash(b"old scene", b"script", 1))).unwrap();
+        m.write_entry(&entry(0, j.inputs_hash(&inputs(b"scene", b"script", &[]), 0))).unwrap();
+        m.write_entry(&entry(1, j.inputs_hash(&inputs(b"old scene", b"script", &[]), 1))).unwrap();
         // Frame 2 has an image but no entry (killed between the two writes); 3 has nothing.
         let s = status(dir).unwrap();
         assert_eq!((s.done, s.stale, s.missing), (vec![0], vec![1], vec![2, 3]));
         assert!(s.stray_temporaries.is_empty());
+    }
+
+    #[test]
+    fn status_names_the_input_that_changed() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path();
+        for (name, text) in [("s.ron", "scene"), ("s.rhai", "script"), ("a.obj", "a"), ("b.obj", "b")] {
+            std::fs::write(dir.join(name), text).unwrap();
+        }
+        let file = |role, name: &str| InputFile::read(role, name, &dir.join(name)).unwrap();
+        let recorded = Inputs {
+            files: vec![
+                file(InputRole::Scene, "s.ron"),
+                file(InputRole::Script, "s.rhai"),
+                file(InputRole::Mesh, "a.obj"),
+                file(InputRole::Mesh, "b.obj"),
+            ],
+        };
+        let m = Manifest::create(dir).unwrap();
+        let j = JobSpec { inputs: recorded.files.clone(), ..job(dir) };
+        m.write_job(&j).unwrap();
+        for n in 0..4 {
+            std::fs::write(dir.join(j.file_name(n)), "png").unwrap();
+            let entry = FrameEntry {
+                frame: n,
+                file: j.file_name(n),
+                inputs: j.inputs_hash(&recorded, n),
+                seed: 1,
+                settings: String::new(),
+                render_seconds: 0.1,
+                total_seconds: 0.2,
+                rays: BTreeMap::new(),
+                mrays_per_s: 1.0,
+                host: "h".into(),
+                shard: "0/1".into(),
+                files: recorded.files.clone(),
+            };
+            m.write_entry(&entry).unwrap();
+        }
+        assert_eq!(status(dir).unwrap().done, vec![0, 1, 2, 3]);
+        std::fs::write(dir.join("b.obj"), "b, stretched").unwrap();
+        let s = status(dir).unwrap();
+        assert_eq!((s.done.len(), s.stale), (0, vec![0, 1, 2, 3]));
+        assert_eq!(s.changed, vec!["mesh b.obj".to_string()]);
+        std::fs::remove_file(dir.join("a.obj")).unwrap();
+        let error = status(dir).unwrap_err().to_string();
+        assert!(error.contains("a.obj"), "{error}");
+    }
+
+    #[test]
+    fn status_of_a_missing_folder_says_so() {
+        let tmp = tempfile::tempdir().unwrap();
+        let error = status(&tmp.path().join("nope")).unwrap_err().to_string();
+        assert!(error.ends_with("nope: no such folder"), "{error}");
+    }
+
+    #[test]
+    fn a_frame_is_claimed_by_one_run_at_a_time() {
+        let tmp = tempfile::tempdir().unwrap();
+        let m = Manifest::create(tmp.path()).unwrap();
+        let first = m.claim(7).unwrap();
+        assert!(first.is_some());
+        assert!(m.claim(7).unwrap().is_none(), "a second claim while the first holds");
+        assert!(m.claim(8).unwrap().is_some(), "other frames are free");
+        drop(first);
+        assert!(m.claim(7).unwrap().is_some(), "free again once released");
+    }
+
+    #[test]
+    fn a_lone_run_removes_stray_temporaries_and_a_second_run_leaves_them() {
+        let tmp = tempfile::tempdir().unwrap();
+        let m = Manifest::create(tmp.path()).unwrap();
+        std::fs::write(tmp.path().join(".penumbra-abc.tmp"), "partial").unwrap();
+        std::fs::write(tmp.path().join(MANIFEST_DIR).join(".penumbra-def.tmp"), "partial").unwrap();
+        let first = m.join_runs().unwrap();
+        assert_eq!(first.removed, vec![".penumbra-abc.tmp".to_string(), ".penumbra-def.tmp".into()]);
+        assert!(m.stray_temporaries().is_empty());
+        // While a run is active, a temporary may be its write in progress: left alone.
+        std::fs::write(tmp.path().join(".penumbra-ghi.tmp"), "in progress").unwrap();
+        let second = m.join_runs().unwrap();
+        assert!(second.removed.is_empty());
+        assert_eq!(m.stray_temporaries(), vec![".penumbra-ghi.tmp".to_string()]);
+        drop((first, second));
+        assert_eq!(m.join_runs().unwrap().removed, vec![".penumbra-ghi.tmp".to_string()]);
     }
 
     #[test]

@@ -14,11 +14,12 @@ use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use penumbra::batch::manifest::frame_digits;
 use penumbra::batch::{self, FrameEntry, FrameState, JobSpec, Manifest, Shard, Split};
 use penumbra::film::{write_image, OutputFormat};
+use penumbra::scene::inputs::Inputs;
 use penumbra::scene::{self, SceneDesc};
 use penumbra::script::{Animation, FrameRange, Limits, Script};
-use penumbra::trace::render_observed;
+use penumbra::trace::{render_observed, tile_count};
 
-use super::render::{say, FrameArgs};
+use super::render::{absolute, say, FrameArgs};
 use super::{bad_input, interrupt, meta};
 
 /// Arguments of `penumbra animate`.
@@ -90,12 +91,25 @@ fn host() -> String {
 
 /// Renders the frames as `args` say; `argv` is the whole command line (for frame metadata).
 pub fn run(args: &AnimateArgs, argv: &[String]) -> anyhow::Result<()> {
+    run_named(args, argv, None)
+}
+
+/// [`run`], recording the scene and script under `names` (the names they were given when the
+/// frame was first made; `info --rerender` reads them from wherever they are now).
+pub fn run_named(args: &AnimateArgs, argv: &[String], names: Option<(&str, &str)>) -> anyhow::Result<()> {
     let mut desc: SceneDesc = scene::load_scene(&args.scene)?;
     let scene_source =
         std::fs::read(&args.scene).with_context(|| format!("{}: cannot read scene", args.scene.display()))?;
-    args.frame.apply(&mut desc);
     let script = Script::load(&args.script, Limits::default())?;
     script.require("frame", 1, "`animate` calls once per frame with the time in seconds")?;
+    let (scene_name, script_name) = match names {
+        Some((scene, script)) => (scene.to_owned(), script.to_owned()),
+        None => (args.scene.display().to_string(), args.script.display().to_string()),
+    };
+    let inputs = Inputs::of_scene(&scene_name, &absolute(&args.scene), &scene_source, &desc)
+        .map_err(|e| bad_input(e.to_string()))?
+        .with_script(&script_name, &absolute(&args.script), script.source().as_bytes());
+    args.frame.apply(&mut desc);
     let format = args.frame.format.unwrap_or(OutputFormat::Png8);
     let tone = args.frame.tone_mapping(&desc);
 
@@ -132,21 +146,31 @@ pub fn run(args: &AnimateArgs, argv: &[String]) -> anyhow::Result<()> {
         fps: args.fps,
         options: args.frame.fingerprint(),
         extension: extension(format).to_owned(),
+        inputs: inputs.files.clone(),
     };
     std::fs::create_dir_all(&args.output)
         .with_context(|| format!("{}: cannot create the frames folder", args.output.display()))?;
     let manifest = Manifest::create(&args.output)?;
+    // Joined before anything is written, so a lone run may clear what killed runs left.
+    let run_lock = manifest.join_runs()?;
     manifest.write_job(&job)?;
 
     let mine = shard.frames(args.frames, args.split);
     let mut todo = Vec::new();
     for &n in &mine {
-        let inputs = job.inputs_hash(&scene_source, script.source().as_bytes(), n);
-        if args.force || manifest.frame_state(&job, n, &inputs)? != FrameState::Done {
-            todo.push((n, inputs));
+        let hash = job.inputs_hash(&inputs, n);
+        if args.force || manifest.frame_state(&job, n, &hash)? != FrameState::Done {
+            todo.push((n, hash));
         }
     }
     let log = |text: String| if args.quiet { Ok(()) } else { say(&text) };
+    if !run_lock.removed.is_empty() {
+        log(format!(
+            "removed {} temporary files of interrupted runs: {}",
+            run_lock.removed.len(),
+            run_lock.removed.join(", ")
+        ))?;
+    }
     log(format!(
         "shard {shard} ({}): {} frames ({}), {} done, {} to render",
         args.split,
@@ -161,24 +185,35 @@ pub fn run(args: &AnimateArgs, argv: &[String]) -> anyhow::Result<()> {
         let bars = Bars::new(args.quiet, todo.len());
         let pool = args.frame.thread_pool()?;
         let wanted = args.frame.aov.unwrap_or_default();
-        let origin = args.scene.display().to_string();
         let host = host();
         let started = Instant::now();
+        let mut elsewhere = Vec::new();
         pool.install(|| -> anyhow::Result<()> {
             let mut animation: Animation = Animation::new(&desc, &script, args.fps)?;
-            for (n, inputs) in &todo {
+            for (n, hash) in &todo {
+                // Another run (an overlapping shard, a second process) may be rendering this
+                // frame, or may have finished it since the list was made.
+                let Some(_claim) = manifest.claim(*n)? else {
+                    elsewhere.push(*n);
+                    bars.skip_frame();
+                    continue;
+                };
+                if !args.force && manifest.frame_state(&job, *n, hash)? == FrameState::Done {
+                    elsewhere.push(*n);
+                    bars.skip_frame();
+                    continue;
+                }
                 let frame_started = Instant::now();
                 let rebuilds = animation.world().world().grid_rebuilds();
                 let snapshot = animation.step_to(*n)?;
                 let rebuilt = animation.world().world().grid_rebuilds() > rebuilds;
                 let settings = animation.world().world().render_settings();
-                bars.start_frame(*n);
+                bars.start_frame(*n, tile_count(settings.width, settings.height));
                 let on_tile = |done: u32, total: u32| bars.tile(done, total);
                 let (film, aovs, mut stats) = render_observed(&snapshot, &settings, wanted, &on_tile);
                 (stats.times.script, stats.times.world_update) = animation.last_timing();
                 let replay = meta::animate_replay(argv, *n);
-                let mut metadata = meta::describe(&origin, &scene_source, &settings, &tone, &replay);
-                meta::add_script(&mut metadata, &args.script, script.source().as_bytes());
+                let metadata = meta::describe(&inputs, &settings, &tone, &replay);
                 let file = job.file_name(*n);
                 {
                     let _writing = interrupt::writing();
@@ -186,7 +221,7 @@ pub fn run(args: &AnimateArgs, argv: &[String]) -> anyhow::Result<()> {
                     manifest.write_entry(&FrameEntry {
                         frame: *n,
                         file: file.clone(),
-                        inputs: inputs.clone(),
+                        inputs: hash.clone(),
                         seed: settings.seed,
                         settings: format!("{settings:?}"),
                         render_seconds: stats.times.trace,
@@ -195,6 +230,7 @@ pub fn run(args: &AnimateArgs, argv: &[String]) -> anyhow::Result<()> {
                         mrays_per_s: stats.mrays_per_s(),
                         host: host.clone(),
                         shard: shard.to_string(),
+                        files: inputs.files.clone(),
                     })?;
                 }
                 bars.finish_frame(&format!(
@@ -209,11 +245,18 @@ pub fn run(args: &AnimateArgs, argv: &[String]) -> anyhow::Result<()> {
         })?;
         bars.clear();
         let seconds = started.elapsed().as_secs_f64();
+        let rendered = todo.len() - elsewhere.len();
         log(format!(
-            "{} frames in {seconds:.2} s ({:.3} s per frame)",
-            todo.len(),
-            seconds / todo.len() as f64
+            "{rendered} frames in {seconds:.2} s ({:.3} s per frame)",
+            seconds / rendered.max(1) as f64
         ))?;
+        if !elsewhere.is_empty() {
+            log(format!(
+                "{} frames rendered by another run on this folder: {}",
+                elsewhere.len(),
+                batch::manifest::ranges(&elsewhere)
+            ))?;
+        }
     }
     if let (Some(ffmpeg), Some(video)) = (ffmpeg, &args.video) {
         encode_video(&ffmpeg, args, video)?;
@@ -228,6 +271,7 @@ struct Bars {
     quiet: bool,
     frames: ProgressBar,
     tiles: ProgressBar,
+    tile_style: ProgressStyle,
     _multi: MultiProgress,
 }
 
@@ -246,13 +290,22 @@ impl Bars {
             .expect("a valid template")
             .progress_chars("=> ");
         let frames = multi.add(ProgressBar::new(frames as u64).with_style(frame_style).with_prefix("shard"));
-        let tiles = multi.add(ProgressBar::new(0).with_style(tile_style));
-        Self { quiet, frames, tiles, _multi: multi }
+        // Blank until the first frame starts: without a length it would draw "0/0 tiles".
+        let blank = ProgressStyle::with_template("").expect("a valid template");
+        let tiles = multi.add(ProgressBar::no_length().with_style(blank));
+        Self { quiet, frames, tiles, tile_style, _multi: multi }
     }
 
-    fn start_frame(&self, n: u32) {
+    fn start_frame(&self, n: u32, tiles: u32) {
+        // Length first and the visible style last: every draw shows the frame's own tile count.
+        self.tiles.set_length(u64::from(tiles));
+        self.tiles.reset();
         self.tiles.set_prefix(format!("{n}"));
-        self.tiles.set_position(0);
+        self.tiles.set_style(self.tile_style.clone());
+    }
+
+    fn skip_frame(&self) {
+        self.frames.inc(1);
     }
 
     fn tile(&self, done: u32, total: u32) {

@@ -1,9 +1,9 @@
 //! What an image says about how it was made: the metadata written into every output, and the
 //! command-line arguments that reproduce it.
 
-use sha2::{Digest, Sha256};
-
 use penumbra::film::{Metadata, ToneMapping};
+pub use penumbra::scene::inputs::sha256_hex;
+use penumbra::scene::inputs::{InputRole, Inputs};
 use penumbra::trace::RenderSettings;
 
 /// Metadata keys.
@@ -20,38 +20,39 @@ pub const ARGS: &str = "penumbra.args";
 /// The script file as given on the command line.
 pub const SCRIPT: &str = "penumbra.script";
 
-/// Hex SHA-256 of `bytes`.
-pub fn sha256_hex(bytes: &[u8]) -> String {
-    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
-}
+/// Every file the image was made from (scene, script, meshes) with its role, the name the user
+/// wrote, the absolute path it was read at and its SHA-256, as JSON ([`Inputs::to_json`]).
+pub const INPUTS: &str = "penumbra.inputs";
 
-/// The metadata of a render: program version, scene and its hash, frame, seed, settings,
-/// tone mapping and the replay arguments. Nothing time- or host-dependent, so re-rendering
-/// gives the same bytes.
+/// The metadata of a render: program version, every input file and its hash, frame, seed,
+/// settings, tone mapping and the replay arguments. Nothing time- or host-dependent, so
+/// re-rendering gives the same bytes.
 pub fn describe(
-    origin: &str,
-    scene_source: &[u8],
+    inputs: &Inputs,
     settings: &RenderSettings,
     tone: &ToneMapping,
     replay: &[String],
 ) -> Metadata {
     let mut m = Metadata::default();
     m.set(VERSION, env!("CARGO_PKG_VERSION"));
-    m.set(SCENE, origin);
-    m.set(SCENE_HASH, sha256_hex(scene_source));
-    m.set(SCRIPT_HASH, "none");
+    if let Some(scene) = inputs.get(InputRole::Scene) {
+        m.set(SCENE, scene.name.clone());
+        m.set(SCENE_HASH, scene.sha256.clone());
+    }
+    match inputs.get(InputRole::Script) {
+        Some(script) => {
+            m.set(SCRIPT, script.name.clone());
+            m.set(SCRIPT_HASH, script.sha256.clone());
+        }
+        None => m.set(SCRIPT_HASH, "none"),
+    }
+    m.set(INPUTS, inputs.to_json());
     m.set("penumbra.frame", settings.frame.to_string());
     m.set("penumbra.seed", settings.seed.to_string());
     m.set("penumbra.settings", format!("{settings:?}"));
     m.set("penumbra.tonemap", format!("{tone:?}"));
     m.set(ARGS, serde_json::Value::from(replay.to_vec()).to_string());
     m
-}
-
-/// Records the script an animation frame was made with: its path and SHA-256.
-pub fn add_script(m: &mut Metadata, path: &std::path::Path, source: &[u8]) {
-    m.set(SCRIPT, path.display().to_string());
-    m.set(SCRIPT_HASH, sha256_hex(source));
 }
 
 /// The arguments that make frame `frame` of an `animate` command line again: `animate`, then
@@ -79,8 +80,8 @@ pub fn animate_replay(argv: &[String], frame: u32) -> Vec<String> {
 }
 
 /// The render arguments of a command line that determine the image: everything after the
-/// program name and `render`, without the output path, the statistics file and the thread
-/// count (which never change the pixels).
+/// program name and `render`, without the output path, the statistics file, the thread count
+/// and `--quiet` (which never change the pixels).
 pub fn replay_tokens(argv: &[String]) -> Vec<String> {
     let mut tokens = argv.iter().skip(1).peekable();
     if tokens.peek().is_some_and(|t| t.as_str() == "render") {
@@ -89,7 +90,9 @@ pub fn replay_tokens(argv: &[String]) -> Vec<String> {
     let mut kept = Vec::new();
     while let Some(t) = tokens.next() {
         let with_value = ["-o", "--output", "--stats", "--threads"];
-        if with_value.contains(&t.as_str()) {
+        if t == "--quiet" {
+            // Progress display only.
+        } else if with_value.contains(&t.as_str()) {
             tokens.next();
         } else if with_value.iter().any(|f| t.starts_with(&format!("{f}=")))
             || (t.starts_with("-o") && !t.starts_with("--"))
@@ -125,6 +128,7 @@ mod tests {
             "s.json",
             "--aov",
             "depth",
+            "--quiet",
         ]);
         assert_eq!(replay_tokens(&argv), strings(&["s.ron", "--width", "64", "--aov", "depth"]));
         assert_eq!(replay_tokens(&strings(&["penumbra"])), Vec::<String>::new());
@@ -164,6 +168,7 @@ mod tests {
 
     #[test]
     fn sha256_matches_a_known_vector() {
+        use penumbra::scene::inputs::sha256_hex;
         assert_eq!(sha256_hex(b"abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
     }
 }

@@ -14,6 +14,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+use penumbra::batch::ManifestError;
 use penumbra::film::OutputError;
 use penumbra::report::run::ReportError;
 use penumbra::report::sweep::SweepError;
@@ -49,6 +50,20 @@ pub enum Command {
     Report(report::ReportArgs),
 }
 
+/// The error and its causes on one line, `outer: cause: cause`, leaving out a cause whose text
+/// the line already holds (errors that print their source in their own message).
+pub fn error_line(error: &anyhow::Error) -> String {
+    let mut line = error.to_string();
+    for cause in error.chain().skip(1) {
+        let cause = cause.to_string();
+        if !line.contains(&cause) {
+            line.push_str(": ");
+            line.push_str(&cause);
+        }
+    }
+    line
+}
+
 /// A bad combination or value of command-line arguments (or of a file they name) that clap
 /// cannot check by itself; the message names the argument and the rule.
 #[derive(Debug, thiserror::Error)]
@@ -65,7 +80,8 @@ pub fn bad_input(message: impl Into<String>) -> anyhow::Error {
 /// - `2`: bad input: a scene ([`SceneError`], meshes included), an OBJ file ([`ObjError`]), a
 ///   script ([`ScriptError`]), a sweep file ([`SweepError`]), a file that cannot be read as an
 ///   image ([`OutputError::Read`]), a reference image of the wrong size
-///   ([`ReportError::ReferenceSize`]) or a command-line argument ([`BadInput`]; clap's own parse
+///   ([`ReportError::ReferenceSize`]), a frames folder that does not exist
+///   ([`ManifestError::NoFolder`]) or a command-line argument ([`BadInput`]; clap's own parse
 ///   errors exit 2 before this is reached);
 /// - `1`: anything else: the render or a write failed (e.g. an unwritable output path).
 ///
@@ -79,6 +95,7 @@ pub fn exit_code(error: &anyhow::Error) -> ExitCode {
             || e.is::<BadInput>()
             || matches!(e.downcast_ref::<OutputError>(), Some(OutputError::Read { .. }))
             || matches!(e.downcast_ref::<ReportError>(), Some(ReportError::ReferenceSize { .. }))
+            || matches!(e.downcast_ref::<ManifestError>(), Some(ManifestError::NoFolder { .. }))
     });
     ExitCode::from(if bad_input { 2 } else { 1 })
 }

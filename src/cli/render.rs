@@ -8,13 +8,17 @@ use std::time::Instant;
 use anyhow::Context;
 use clap::Args;
 
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
 use penumbra::film::{
-    write_atomically, write_image, AovSet, Aovs, Film, OutputFormat, ToneMapping, ToneOperator,
+    prepare_output, write_atomically, write_image, AovSet, Aovs, Film, OutputFormat, ToneMapping,
+    ToneOperator,
 };
 use penumbra::sample::Pattern;
-use penumbra::scene::{self, AdaptiveDesc, LightDesc, SceneDesc, DEFAULT_SCENE_ORIGIN, DEFAULT_SCENE_SOURCE};
+use penumbra::scene::inputs::Inputs;
+use penumbra::scene::{self, AdaptiveDesc, LightDesc, SceneDesc};
 use penumbra::store::{AosStore, PrimitiveStore, SoaStore};
-use penumbra::trace::{render_with_aovs, RenderSettings, RenderStats};
+use penumbra::trace::{render_observed, RenderSettings, RenderStats};
 use penumbra::world::SceneWorld;
 
 use super::{bad_input, meta};
@@ -33,6 +37,9 @@ pub struct RenderArgs {
     /// image, bit for bit; for measuring what the layout is worth).
     #[arg(long, value_enum, default_value_t = Layout::Soa)]
     layout: Layout,
+    /// No progress bar (it is drawn only when standard error is a terminal anyway).
+    #[arg(long)]
+    quiet: bool,
     /// How to render and encode the image.
     #[command(flatten)]
     pub frame: FrameArgs,
@@ -192,44 +199,84 @@ impl RenderArgs {
 /// Renders as `args` say; `replay` are the arguments that reproduce the image (stored in its
 /// metadata).
 pub fn run(args: &RenderArgs, replay: &[String]) -> anyhow::Result<()> {
+    let name = args.scene.as_ref().map(|p| p.display().to_string());
+    run_named(args, replay, name.as_deref())
+}
+
+/// [`run`], recording the scene under `scene_name` (the name it was given when the image was
+/// first made: `info --rerender` reads the file from wherever it is now, but the image says
+/// what the original said).
+pub fn run_named(args: &RenderArgs, replay: &[String], scene_name: Option<&str>) -> anyhow::Result<()> {
     let started = Instant::now();
-    let (mut desc, source): (SceneDesc, Vec<u8>) = match &args.scene {
+    // Outputs first: a wrong format or an unwritable folder fails before any work.
+    let format = args.frame.format_for(&args.output)?;
+    prepare_output(&args.output)?;
+    if let Some(stats) = &args.stats {
+        prepare_output(stats)?;
+    }
+    let (mut desc, inputs) = match &args.scene {
         Some(path) => {
             let desc = scene::load_scene(path)?;
             // Read again for the hash: `load_scene` validated exactly these bytes or failed.
             let bytes =
                 std::fs::read(path).with_context(|| format!("{}: cannot read scene", path.display()))?;
-            (desc, bytes)
+            let name = scene_name.map_or_else(|| path.display().to_string(), str::to_owned);
+            let inputs = Inputs::of_scene(&name, &absolute(path), &bytes, &desc)
+                .map_err(|e| bad_input(e.to_string()))?;
+            (desc, inputs)
         }
-        None => (scene::default_scene(), DEFAULT_SCENE_SOURCE.as_bytes().to_vec()),
+        None => (scene::default_scene(), Inputs::builtin()),
     };
     args.frame.apply(&mut desc);
-    let format = args.frame.format_for(&args.output)?;
     let tone = args.frame.tone_mapping(&desc);
     let load = started.elapsed().as_secs_f64();
 
     let pool = args.frame.thread_pool()?;
     let wanted = args.frame.aov.unwrap_or_default();
+    let bar = tile_bar(args.quiet);
+    let on_tile = |done: u32, total: u32| {
+        bar.set_length(u64::from(total));
+        bar.set_position(u64::from(done));
+    };
     let (film, aovs, mut stats, settings) = pool.install(|| match args.layout {
-        Layout::Soa => render_frame::<SoaStore>(&desc, wanted),
-        Layout::Aos => render_frame::<AosStore>(&desc, wanted),
+        Layout::Soa => render_frame::<SoaStore>(&desc, wanted, &on_tile),
+        Layout::Aos => render_frame::<AosStore>(&desc, wanted, &on_tile),
     });
+    bar.finish_and_clear();
     stats.times.mesh_grid_build = desc.meshes.grid_build_seconds();
     stats.times.load = (load - stats.times.mesh_grid_build).max(0.0);
 
-    let origin =
-        args.scene.as_ref().map_or_else(|| DEFAULT_SCENE_ORIGIN.to_string(), |p| p.display().to_string());
-    let metadata = meta::describe(&origin, &source, &settings, &tone, replay);
+    let metadata = meta::describe(&inputs, &settings, &tone, replay);
     let started = Instant::now();
     let written = write_image(&film, aovs.as_ref(), &args.output, format, &tone, &metadata)?;
     stats.times.write = started.elapsed().as_secs_f64();
     report(&stats, &written, aovs.as_ref().map(|a| a.object_names.as_slice()), args.stats.as_deref())
 }
 
+/// `path` made absolute without resolving links (kept as given if that fails).
+pub fn absolute(path: &Path) -> PathBuf {
+    std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf())
+}
+
+/// A progress bar of tiles with an ETA on standard error: drawn only when standard error is a
+/// terminal and `quiet` is off, and empty until the first tile reports the total.
+pub fn tile_bar(quiet: bool) -> ProgressBar {
+    let target = match quiet {
+        true => ProgressDrawTarget::hidden(),
+        false => ProgressDrawTarget::stderr(),
+    };
+    let style =
+        ProgressStyle::with_template("render [{bar:30}] {pos}/{len} tiles, {elapsed} elapsed, eta {eta}")
+            .expect("a valid template")
+            .progress_chars("=> ");
+    ProgressBar::with_draw_target(None, target).with_style(style)
+}
+
 /// Spawns, updates and renders one frame with primitive layout `S`.
 fn render_frame<S: PrimitiveStore>(
     desc: &SceneDesc,
     wanted: AovSet,
+    on_tile: &(dyn Fn(u32, u32) + Sync),
 ) -> (Film, Option<Aovs>, RenderStats, RenderSettings) {
     let started = Instant::now();
     let mut world: SceneWorld<S> = scene::spawn_world(desc);
@@ -237,7 +284,7 @@ fn render_frame<S: PrimitiveStore>(
     let snapshot = world.update();
     let settings = world.render_settings();
     let clock = world.stage_clock();
-    let (film, aovs, mut stats) = render_with_aovs(&snapshot, &settings, wanted);
+    let (film, aovs, mut stats) = render_observed(&snapshot, &settings, wanted, on_tile);
     stats.times.world_update = spawn + clock.bounds;
     stats.times.grid_build = clock.grid_build;
     stats.times.snapshot = clock.snapshot;
@@ -259,16 +306,24 @@ impl FrameArgs {
         apply_effects(desc, self);
     }
 
-    /// The encoding of `output`: `--format`, else from its extension.
+    /// The encoding of `output`: `--format`, else from its extension. A format that
+    /// contradicts a known extension (`-o a.exr --format png16`) is refused.
     pub fn format_for(&self, output: &Path) -> anyhow::Result<OutputFormat> {
-        match self.format {
-            Some(f) => Ok(f),
-            None => OutputFormat::from_path(output).ok_or_else(|| {
-                bad_input(format!(
-                    "{}: unknown output extension; use .png or .exr, or --format",
-                    output.display()
-                ))
-            }),
+        let from_extension = OutputFormat::from_path(output);
+        match (self.format, from_extension) {
+            (Some(f), Some(e)) if f.is_exr() != e.is_exr() => Err(bad_input(format!(
+                "--format {}: contradicts the extension of {} ({}); use a .{} file name or another --format",
+                f.name(),
+                output.display(),
+                if e.is_exr() { "EXR" } else { "PNG" },
+                if f.is_exr() { "exr" } else { "png" },
+            ))),
+            (Some(f), _) => Ok(f),
+            (None, Some(e)) => Ok(e),
+            (None, None) => Err(bad_input(format!(
+                "{}: unknown output extension; use .png or .exr, or --format",
+                output.display()
+            ))),
         }
     }
 

@@ -39,9 +39,12 @@ pub fn run(args: &StatusArgs) -> anyhow::Result<()> {
         ranges(&s.missing),
         ranges(&s.stale)
     );
+    if !s.changed.is_empty() {
+        text += &format!("\n  changed  {} (since the stale frames were made)", s.changed.join(", "));
+    }
     if !s.stray_temporaries.is_empty() {
         text += &format!(
-            "\n  {} temporary files from interrupted writes (safe to delete): {}",
+            "\n  {} temporary files from interrupted writes (the next `animate` on this folder removes them): {}",
             s.stray_temporaries.len(),
             s.stray_temporaries.join(", ")
         );

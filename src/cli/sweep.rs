@@ -8,14 +8,15 @@ use std::time::Instant;
 use anyhow::Context;
 use clap::Args;
 
-use penumbra::film::{write_atomically, write_image, OutputFormat};
-use penumbra::scene::{self, spawn_world, SceneDesc};
+use penumbra::film::{prepare_output, write_atomically, write_image, OutputFormat};
+use penumbra::scene::inputs::Inputs;
+use penumbra::scene::{self, SceneDesc};
 use penumbra::script::sweep::{self, file_stem, params_of, SweepRecord};
 use penumbra::script::{Limits, Script, ScriptedWorld};
 use penumbra::trace::render_with_aovs;
 
-use super::meta;
-use super::render::{say, FrameArgs};
+use super::render::{absolute, say, FrameArgs};
+use super::{bad_input, meta};
 
 /// Arguments of `penumbra sweep`.
 #[derive(Args, Debug)]
@@ -41,9 +42,13 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
     let mut desc: SceneDesc = scene::load_scene(&args.scene)?;
     let scene_source =
         std::fs::read(&args.scene).with_context(|| format!("{}: cannot read scene", args.scene.display()))?;
-    args.frame.apply(&mut desc);
     let script = Script::load(&args.script, Limits::default())?;
     script.require("sweep", 0, "returns the parameter sets, e.g. product(#{ aperture: [0.0, 0.1] })")?;
+    let origin = args.scene.display().to_string();
+    let inputs = Inputs::of_scene(&origin, &absolute(&args.scene), &scene_source, &desc)
+        .map_err(|e| bad_input(e.to_string()))?
+        .with_script(&args.script.display().to_string(), &absolute(&args.script), script.source().as_bytes());
+    args.frame.apply(&mut desc);
     let format = args.frame.format.unwrap_or(OutputFormat::Png8);
     let extension = match format {
         OutputFormat::Png8 | OutputFormat::Png16 => "png",
@@ -53,18 +58,18 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
     let wanted = args.frame.aov.unwrap_or_default();
     std::fs::create_dir_all(&args.output)
         .with_context(|| format!("{}: cannot create the sweep folder", args.output.display()))?;
-    let origin = args.scene.display().to_string();
+    prepare_output(&args.output.join("sweep.csv"))?;
 
     let pool = args.frame.thread_pool()?;
     let records = pool.install(|| -> anyhow::Result<Vec<SweepRecord>> {
-        let mut declaring: ScriptedWorld = ScriptedWorld::new(spawn_world(&desc), &script);
+        let mut declaring: ScriptedWorld = ScriptedWorld::from_scene(&desc, &script);
         declaring.setup()?;
         let sets = declaring.sweep_sets()?;
         let mut records = Vec::with_capacity(sets.len());
         for (index, set) in sets.iter().enumerate() {
             let started = Instant::now();
             // Every set starts from the scene as loaded, so sets are independent of order.
-            let mut world: ScriptedWorld = ScriptedWorld::new(spawn_world(&desc), &script);
+            let mut world: ScriptedWorld = ScriptedWorld::from_scene(&desc, &script);
             world.setup()?;
             world.apply(set, index)?;
             let script_seconds = started.elapsed().as_secs_f64();
@@ -79,8 +84,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
 
             let params = params_of(set);
             let file = format!("{}.{extension}", file_stem(index, &params));
-            let mut metadata = meta::describe(&origin, &scene_source, &settings, &tone, &[]);
-            meta::add_script(&mut metadata, &args.script, script.source().as_bytes());
+            let mut metadata = meta::describe(&inputs, &settings, &tone, &[]);
             let values: serde_json::Map<String, serde_json::Value> =
                 params.iter().map(|(k, v)| (k.clone(), v.json())).collect();
             metadata.set("penumbra.sweep.params", serde_json::Value::Object(values).to_string());

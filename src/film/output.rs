@@ -120,6 +120,33 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
     persist(path, stage(path, bytes)?)
 }
 
+/// Makes sure `path` can be written before any work is done, the way every command treats
+/// its outputs: missing parent folders are created, a folder at `path` itself is refused, and
+/// the folder is proven writable by creating (and removing) a temporary file there, as the
+/// final atomic write will.
+///
+/// # Examples
+/// ```
+/// # use penumbra::film::prepare_output;
+/// let dir = tempfile::tempdir().unwrap();
+/// prepare_output(&dir.path().join("new/folder/image.png")).unwrap();
+/// assert!(dir.path().join("new/folder").is_dir());
+/// assert!(prepare_output(dir.path()).is_err());
+/// ```
+pub fn prepare_output(path: &Path) -> Result<(), OutputError> {
+    let io = |source| OutputError::Io { path: path.to_path_buf(), source };
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    std::fs::create_dir_all(dir).map_err(io)?;
+    if path.is_dir() {
+        return Err(io(std::io::Error::new(std::io::ErrorKind::IsADirectory, "is a folder, not a file")));
+    }
+    tempfile::Builder::new().prefix(".penumbra-").suffix(".tmp").tempfile_in(dir).map_err(io)?;
+    Ok(())
+}
+
 /// Writes `bytes` to a synced temporary file in `path`'s folder (removed again if dropped).
 fn stage(path: &Path, bytes: &[u8]) -> Result<tempfile::NamedTempFile, OutputError> {
     let io = |source| OutputError::Io { path: path.to_path_buf(), source };

@@ -25,7 +25,7 @@ use glam::Vec2;
 pub fn strata(n: u32) -> (u32, u32) {
     let n = n.max(1);
     let mut ny = n.isqrt();
-    while n % ny != 0 {
+    while !n.is_multiple_of(ny) {
         ny -= 1;
     }
     (n / ny, ny)

@@ -11,10 +11,12 @@
 //! [`locate`] maps field paths to source positions, since ron keeps none for values after
 //! deserialization. [`default_scene`] is the built-in `scenes/default.ron`. [`spawn_world`]
 //! turns a validated scene into a World of entities. [`obj`] imports Wavefront OBJ meshes.
+//! [`inputs`] lists and hashes the files a frame is made from (scene, script, meshes).
 //!
 //! [`validate`]: validate::validate
 pub mod error;
 pub mod format;
+pub mod inputs;
 pub mod load;
 pub mod locate;
 pub mod mesh;

@@ -20,6 +20,8 @@ pub use integrator::{
 };
 pub use light::Light;
 pub use material::Material;
-pub use render::{render, render_observed, render_with_aovs, AntiAliasing, RenderSettings, Sampling};
+pub use render::{
+    render, render_observed, render_with_aovs, tile_count, AntiAliasing, RenderSettings, Sampling,
+};
 pub use scene::{SceneTables, TraceScene};
 pub use stats::{AdaptiveCounts, GridStats, RayCounts, RenderStats, StageTimes};

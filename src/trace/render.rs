@@ -108,6 +108,12 @@ impl Default for RenderSettings {
     }
 }
 
+/// The number of tiles an image of `width` × `height` pixels is rendered in (what progress
+/// observers count to).
+pub fn tile_count(width: u32, height: u32) -> u32 {
+    width.div_ceil(TILE) * height.div_ceil(TILE)
+}
+
 /// Renders a snapshot into a linear film. Pure: the same inputs give the same bits for any
 /// thread count or tile order, because each pixel depends only on its coordinates.
 pub fn render<S: PrimitiveStore>(scene: &TraceScene<S>, settings: &RenderSettings) -> (Film, RenderStats) {
@@ -135,7 +141,7 @@ pub fn render_observed<S: PrimitiveStore>(
     on_tile: &(dyn Fn(u32, u32) + Sync),
 ) -> (Film, Option<Aovs>, RenderStats) {
     let started = Instant::now();
-    let total = settings.width.div_ceil(TILE) * settings.height.div_ceil(TILE);
+    let total = tile_count(settings.width, settings.height);
     let done = AtomicU32::new(0);
     let tile_done = || on_tile(done.fetch_add(1, Ordering::Relaxed) + 1, total);
     if settings.width == 0 || settings.height == 0 {
