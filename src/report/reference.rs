@@ -100,7 +100,7 @@ pub fn read_reference(path: &Path) -> Result<ReferenceFile, ReportError> {
         n => format!(", and {n} pixel(s) at full white may have been clipped"),
     };
     notes.push(format!(
-        "{name}: a {}-bit PNG reference is clamped to [0, 1] and quantised{clipped}; an EXR \
+        "{name}: this {}-bit PNG reference is clamped to [0, 1] and quantised{clipped}; an EXR \
          reference (`penumbra render --format exr-float`) measures small errors better",
         png.bits
     ));

@@ -172,6 +172,10 @@ pub struct SettingsDesc {
     /// use one). Default 8, `Jittered`; a `glossy: (...)` without `samples` also gets 8.
     #[serde(deserialize_with = "glossy_sampling")]
     pub glossy: SamplingDesc,
+    /// Secondary rays (reflection, refraction, glossy, blurry) one camera sample may trace;
+    /// a ray tree that would grow past it is cut and counted in the statistics. In
+    /// 1..=16777216. Default 1024.
+    pub max_secondary_rays: u32,
     /// How 8- and 16-bit outputs map linear light to display values (EXR stays linear).
     /// Default: clamp, exposure 0.
     pub tonemap: ToneMapDesc,
@@ -207,6 +211,7 @@ impl Default for SettingsDesc {
             aa: AaDesc::default(),
             adaptive: None,
             glossy: SamplingDesc { samples: DEFAULT_GLOSSY_SAMPLES, pattern: Pattern::Jittered },
+            max_secondary_rays: crate::trace::integrator::DEFAULT_MAX_SECONDARY_RAYS,
             tonemap: ToneMapDesc::default(),
         }
     }

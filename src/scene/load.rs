@@ -220,7 +220,9 @@ fn expected_type(path: &FieldPath) -> Option<&'static str> {
             "operator" => "a tone operator: `Clamp`, `Reinhard` or `Aces`",
             "materials" | "lights" | "objects" => "a list in brackets `[...]`",
             "shape" => "a shape: `Sphere(...)`, `Plane(...)`, `Triangle(...)`, `Polygon(...)` or `Box(...)`",
-            "width" | "height" | "max_depth" | "samples" => "a whole number (32-bit, unsigned)",
+            "width" | "height" | "max_depth" | "samples" | "max_secondary_rays" => {
+                "a whole number (32-bit, unsigned)"
+            }
             "seed" => "a whole number (64-bit, unsigned)",
             "name" | "material" => "a string in double quotes",
             "vertices" => {

@@ -57,6 +57,7 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
             .map(|a| AdaptiveSettings { threshold: a.threshold, max_depth: a.max_depth }),
         lens: sampling(&c.lens),
         glossy: sampling(&s.glossy),
+        max_secondary_rays: s.max_secondary_rays,
     });
 
     for (i, object) in desc.objects.iter().enumerate() {

@@ -35,6 +35,9 @@ pub const UNIFORM_SCALE_TOLERANCE: f32 = 1e-5;
 pub const MAX_SAMPLES: u32 = 4096;
 /// Largest accepted `settings.adaptive.max_depth`.
 pub const MAX_ADAPTIVE_DEPTH: u32 = 6;
+/// Largest accepted `settings.max_secondary_rays` (2^24): the budget still bounds a camera
+/// sample's work to seconds, not the hours of an unbounded tree.
+pub const MAX_SECONDARY_RAYS: u32 = 1 << 24;
 /// Largest accepted magnitude of any coordinate, radius or scale component. Intersection
 /// tests square distances in 32-bit floats (largest ≈ 3.4e38), so a value beyond about 1.8e19
 /// overflows; the limit leaves a margin for sums, and a scaled object (scale × coordinate
@@ -195,6 +198,10 @@ fn settings(path: &FieldPath, settings: &SettingsDesc) -> Check {
         adaptive(&path.clone().field("adaptive"), adaptive_desc)?;
     }
     sampling(&path.clone().field("glossy"), &settings.glossy)?;
+    if !(1..=MAX_SECONDARY_RAYS).contains(&settings.max_secondary_rays) {
+        let rule = format!("must be in 1..={MAX_SECONDARY_RAYS}, got {}", settings.max_secondary_rays);
+        return fail(path, "max_secondary_rays", rule);
+    }
     tonemap(&path.clone().field("tonemap"), &settings.tonemap)
 }
 

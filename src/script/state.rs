@@ -137,6 +137,8 @@ pub struct SettingsState {
     pub adaptive: Option<(f64, u32)>,
     /// Maximum reflection/refraction depth.
     pub max_depth: u32,
+    /// Secondary rays one camera sample may trace.
+    pub max_secondary_rays: u32,
     /// Seed of all randomness.
     pub seed: u64,
 }
@@ -356,6 +358,7 @@ impl ScriptState {
                 glossy_samples: s.glossy.samples,
                 adaptive: s.adaptive.map(|a| (a.threshold as f64, a.max_depth)),
                 max_depth: s.max_depth,
+                max_secondary_rays: s.max_secondary_rays,
                 seed: s.seed,
             },
             ..Default::default()
@@ -507,6 +510,7 @@ pub fn apply_script_writes(
             .adaptive
             .map(|(threshold, max_depth)| AdaptiveSettings { threshold: threshold as f32, max_depth });
         next.max_depth = s.max_depth;
+        next.max_secondary_rays = s.max_secondary_rays;
         next.seed = s.seed;
         settings.set_if_neq(next);
     }

@@ -165,6 +165,73 @@ pub fn transmittance_costed<S: PrimitiveStore>(
     pass
 }
 
+/// Default of [`RenderSettings::max_secondary_rays`]: the secondary rays one camera sample may
+/// trace. The shipped scenes use at most a few hundred (see `docs/scene-format.md`).
+pub const DEFAULT_MAX_SECONDARY_RAYS: u32 = 1024;
+
+/// The secondary rays (reflection, refraction, glossy, blurry) one camera sample may still
+/// trace: a per-sample counter carried down the recursion, so the rays it refuses depend only
+/// on the sample, never on threads or tile order.
+///
+/// Rays are granted depth-first in the order the integrator asks for them (reflection before
+/// refraction, a cone's rays in turn), but a node first sets aside one ray for each sibling
+/// still to come (the refraction while the reflection's tree is traced, the rest of a cone), so
+/// a tree that outgrows the budget loses its deepest rays, not its shallow siblings. A tree
+/// that fits is never cut: every ray set aside is asked for later, so `spent + reserved`
+/// never exceeds the rays the whole tree asks for. Shadow rays are not counted: each shading
+/// point sends a bounded number (one per point light, `samples` per area light), and the
+/// budget bounds the shading points to one plus the secondary rays.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RayBudget {
+    limit: u32,
+    spent: u32,
+    reserved: u32,
+    refused: u32,
+}
+
+impl RayBudget {
+    /// A budget of `limit` secondary rays, none spent.
+    pub fn new(limit: u32) -> Self {
+        Self { limit, spent: 0, reserved: 0, refused: 0 }
+    }
+
+    /// Sets aside `n` rays that siblings will ask for later.
+    #[inline]
+    fn reserve(&mut self, n: u32) {
+        self.reserved = self.reserved.saturating_add(n);
+    }
+
+    /// Gives back `n` rays set aside by [`Self::reserve`] (their sibling is about to ask).
+    #[inline]
+    fn release(&mut self, n: u32) {
+        debug_assert!(self.reserved >= n, "released more rays than were set aside");
+        self.reserved = self.reserved.saturating_sub(n);
+    }
+
+    /// Grants one ray if the budget, less what is set aside, has one left; counts a refusal
+    /// otherwise.
+    #[inline]
+    fn grant(&mut self) -> bool {
+        if self.spent.saturating_add(self.reserved) < self.limit {
+            self.spent += 1;
+            true
+        } else {
+            self.refused = self.refused.saturating_add(1);
+            false
+        }
+    }
+
+    /// Rays granted so far.
+    pub fn spent(&self) -> u32 {
+        self.spent
+    }
+
+    /// Rays refused so far (0 unless the tree was cut).
+    pub fn refused(&self) -> u32 {
+        self.refused
+    }
+}
+
 /// Per-path context: recursion limits, sampling budgets, the randomness of the camera sample
 /// being traced, and the counters of one worker.
 pub struct PathContext<'a> {
@@ -179,6 +246,8 @@ pub struct PathContext<'a> {
     pub stream: SampleStream,
     /// Which camera sample of which pixel this path belongs to.
     pub camera: CameraSample,
+    /// Secondary rays this camera sample may still trace.
+    pub budget: RayBudget,
     /// Ray counters to add to.
     pub rays: &'a mut RayCounts,
 }
@@ -216,7 +285,24 @@ impl<'a> PathContext<'a> {
             glossy: settings.glossy,
             stream: SampleStream::starting_at(camera.key, FIRST_PATH_DIM),
             camera: CameraSample { spp: camera.spp.max(1), ..camera },
+            budget: RayBudget::new(settings.max_secondary_rays),
             rays,
+        }
+    }
+
+    /// Ends the path: adds what the budget did to the ray counters.
+    pub fn finish(self) {
+        self.rays.budget.record(self.budget.spent(), self.budget.refused());
+    }
+
+    /// Rays a glossy or blurry cone traces at `depth`: this camera sample's share of
+    /// `glossy.samples` at the first bounce, one deeper down (what [`scatter`] asks for).
+    #[inline]
+    fn cone_rays(&self, depth: u32) -> u32 {
+        if depth == 0 {
+            self.glossy.samples.max(1).div_ceil(self.camera.spp)
+        } else {
+            1
         }
     }
 
@@ -315,15 +401,23 @@ pub fn radiance<S: PrimitiveStore>(
     if depth >= ctx.max_depth {
         return colour;
     }
+    // The refraction's rays are set aside while the reflection's tree is traced.
+    let refracts = m.kt > 0.0 && weight * m.kt >= ctx.min_contribution;
+    let pending = match (refracts, m.glossiness > 0.0) {
+        (false, _) => 0,
+        (true, false) => 1,
+        (true, true) => ctx.cone_rays(depth),
+    };
     // Mirror or glossy reflection.
     if m.kr > 0.0 && weight * m.kr >= ctx.min_contribution {
+        ctx.budget.reserve(pending);
         let mirror = match reflect(ray.dir, ns) {
             r if r.dot(n) > 0.0 => r,
             _ => reflect(ray.dir, n),
         };
-        colour += m.kr
-            * if m.glossiness > 0.0 {
-                scatter(
+        if m.glossiness > 0.0 {
+            colour += m.kr
+                * scatter(
                     scene,
                     surface.above,
                     mirror,
@@ -333,27 +427,28 @@ pub fn radiance<S: PrimitiveStore>(
                     weight * m.kr,
                     Scatter::Glossy,
                     ctx,
-                )
-            } else {
-                ctx.rays.reflection += 1;
-                radiance(scene, &Ray::new(surface.above, mirror), depth + 1, weight * m.kr, ctx)
-            };
+                );
+        } else if ctx.budget.grant() {
+            ctx.rays.reflection += 1;
+            colour += m.kr * radiance(scene, &Ray::new(surface.above, mirror), depth + 1, weight * m.kr, ctx);
+        }
+        ctx.budget.release(pending);
     }
     // Refraction (Snell), or total internal reflection; blurry around that direction.
-    if m.kt > 0.0 && weight * m.kt >= ctx.min_contribution {
+    if refracts {
         let eta = if entering { 1.0 / m.ior } else { m.ior };
         let bent = refract(ray.dir, ns, eta).filter(|d| d.dot(n) < 0.0);
         let (origin, dir, side) = match bent.or_else(|| refract(ray.dir, n, eta)) {
             Some(dir) => (sp.point - n * eps, dir, -n),
             None => (surface.above, reflect(ray.dir, n), n),
         };
-        colour += m.kt
-            * if m.glossiness > 0.0 {
-                scatter(scene, origin, dir, side, m.glossiness, depth, weight * m.kt, Scatter::Blurry, ctx)
-            } else {
-                ctx.rays.refraction += 1;
-                radiance(scene, &Ray::new(origin, dir), depth + 1, weight * m.kt, ctx)
-            };
+        if m.glossiness > 0.0 {
+            colour += m.kt
+                * scatter(scene, origin, dir, side, m.glossiness, depth, weight * m.kt, Scatter::Blurry, ctx);
+        } else if ctx.budget.grant() {
+            ctx.rays.refraction += 1;
+            colour += m.kt * radiance(scene, &Ray::new(origin, dir), depth + 1, weight * m.kt, ctx);
+        }
     }
     colour
 }
@@ -383,7 +478,8 @@ enum Scatter {
 /// Mean radiance over rays in the cone of half-angle `glossiness × 45°` around `axis`, kept on
 /// the `side` of the surface the axis leaves towards (a direction that dips under the surface
 /// is mirrored back). The pixel's `glossy.samples` rays at the first bounce, shared among its
-/// camera samples; one ray deeper down.
+/// camera samples; one ray deeper down. Rays the budget refuses are left out of the mean (no
+/// ray traced: black, as past `max_depth`).
 #[allow(clippy::too_many_arguments)]
 fn scatter<S: PrimitiveStore>(
     scene: &TraceScene<S>,
@@ -400,9 +496,18 @@ fn scatter<S: PrimitiveStore>(
     let half_angle = glossiness * MAX_GLOSSY_ANGLE;
     // The per-pixel budget at the first bounce; a single ray (its own stratum of 1) deeper down.
     let samples = if depth == 0 { ctx.effect_samples(ctx.glossy.samples) } else { ctx.effect_samples(1) };
-    let (n, taken) = (samples.pattern_size(), samples.taken());
+    let n = samples.pattern_size();
+    debug_assert_eq!(samples.taken(), ctx.cone_rays(depth), "the rays set aside for a cone");
+    // The cone's later rays are set aside while each earlier ray's tree is traced.
+    ctx.budget.reserve(samples.taken());
+    let mut traced = 0u32;
     let mut sum = Vec3::ZERO;
     for (stratum, u) in samples {
+        ctx.budget.release(1);
+        if !ctx.budget.grant() {
+            continue;
+        }
+        traced += 1;
         let mut dir = cone(axis, half_angle, square_point(pattern, n, stratum, u));
         let below = dir.dot(side);
         if below <= 0.0 {
@@ -414,5 +519,37 @@ fn scatter<S: PrimitiveStore>(
         }
         sum += radiance(scene, &Ray::new(origin, dir), depth + 1, weight, ctx);
     }
-    sum / taken as f32
+    if traced == 0 {
+        return Vec3::ZERO;
+    }
+    sum / traced as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_budget_grants_up_to_its_limit_less_the_rays_set_aside() {
+        let mut budget = RayBudget::new(3);
+        budget.reserve(1);
+        assert!(budget.grant());
+        assert!(budget.grant());
+        assert!(!budget.grant(), "the last ray is set aside for a sibling");
+        budget.release(1);
+        assert!(budget.grant(), "the sibling gets it");
+        assert!(!budget.grant());
+        assert_eq!((budget.spent(), budget.refused()), (3, 2));
+    }
+
+    #[test]
+    fn a_budget_that_holds_the_tree_refuses_nothing() {
+        // Four rays asked for, two of them set aside first: exactly four fit.
+        let mut budget = RayBudget::new(4);
+        budget.reserve(2);
+        assert!(budget.grant() && budget.grant());
+        budget.release(2);
+        assert!(budget.grant() && budget.grant());
+        assert_eq!((budget.spent(), budget.refused()), (4, 0));
+    }
 }

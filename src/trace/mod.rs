@@ -24,4 +24,4 @@ pub use render::{
     render, render_observed, render_with_aovs, tile_count, AntiAliasing, RenderSettings, Sampling,
 };
 pub use scene::{SceneTables, TraceScene};
-pub use stats::{AdaptiveCounts, GridStats, RayCounts, RenderStats, StageTimes};
+pub use stats::{AdaptiveCounts, BudgetStats, GridStats, RayCounts, RenderStats, StageTimes};

@@ -19,9 +19,9 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use super::aov::first_hit_aovs;
-use super::integrator::{radiance, CameraSample, PathContext};
+use super::integrator::{radiance, CameraSample, PathContext, DEFAULT_MAX_SECONDARY_RAYS};
 use super::scene::TraceScene;
-use super::stats::{AdaptiveCounts, GridStats, MeshGridStats, RayCounts, RenderStats};
+use super::stats::{AdaptiveCounts, BudgetStats, GridStats, MeshGridStats, RayCounts, RenderStats};
 use crate::film::{AovSet, Aovs, Film};
 use crate::math::{Ray, Vec2, Vec3};
 use crate::sample::adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint};
@@ -89,6 +89,9 @@ pub struct RenderSettings {
     pub lens: Sampling,
     /// Rays per glossy reflection or blurry refraction at the first bounce.
     pub glossy: Sampling,
+    /// Secondary rays (reflection, refraction, glossy, blurry) one camera sample may trace;
+    /// see [`super::integrator::RayBudget`].
+    pub max_secondary_rays: u32,
 }
 
 impl Default for RenderSettings {
@@ -104,6 +107,7 @@ impl Default for RenderSettings {
             adaptive: None,
             lens: Sampling::default(),
             glossy: Sampling { samples: 8, pattern: Pattern::Jittered },
+            max_secondary_rays: DEFAULT_MAX_SECONDARY_RAYS,
         }
     }
 }
@@ -188,6 +192,7 @@ pub fn render_observed<S: PrimitiveStore>(
         meshes: mesh_grid_stats(scene.store.meshes()),
     };
     stats.traversal = stats.rays.traversal.summary();
+    stats.ray_budget = BudgetStats::new(settings.max_secondary_rays, &stats.rays.budget);
     (film, aovs, stats)
 }
 
@@ -322,7 +327,9 @@ fn trace_camera_ray<S: PrimitiveStore>(
     rays: &mut RayCounts,
 ) -> Vec3 {
     let mut ctx = PathContext::new(settings, camera, rays);
-    radiance(scene, ray, 0, 1.0, &mut ctx)
+    let colour = radiance(scene, ray, 0, 1.0, &mut ctx);
+    ctx.finish();
+    colour
 }
 
 /// Adaptive supersampling: the `(W+1) × (H+1)` pixel corners first (each traced once), then

@@ -31,6 +31,9 @@ pub struct RayCounts {
     /// Grid cells visited and primitives tested by the rays above (AOV probes excluded).
     #[serde(skip)]
     pub traversal: TraversalTally,
+    /// What the per-camera-sample budget of secondary rays did.
+    #[serde(skip)]
+    pub budget: BudgetTally,
 }
 
 impl RayCounts {
@@ -78,6 +81,60 @@ impl RayCounts {
         self.blurry += o.blurry;
         self.aov += o.aov;
         self.traversal.add(&o.traversal);
+        self.budget.add(&o.budget);
+    }
+}
+
+/// Per-worker figures of the secondary-ray budget, summed over camera samples.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct BudgetTally {
+    /// Camera samples whose ray tree the budget cut (at least one ray refused).
+    pub cut_samples: u64,
+    /// Secondary rays refused, over all camera samples.
+    pub refused_rays: u64,
+    /// Most secondary rays one camera sample traced.
+    pub max_per_sample: u32,
+}
+
+impl BudgetTally {
+    /// Counts one camera sample that traced `traced` secondary rays and was refused `refused`.
+    #[inline]
+    pub fn record(&mut self, traced: u32, refused: u32) {
+        self.cut_samples += u64::from(refused > 0);
+        self.refused_rays += u64::from(refused);
+        self.max_per_sample = self.max_per_sample.max(traced);
+    }
+
+    /// Adds another tally.
+    pub fn add(&mut self, o: &BudgetTally) {
+        self.cut_samples += o.cut_samples;
+        self.refused_rays += o.refused_rays;
+        self.max_per_sample = self.max_per_sample.max(o.max_per_sample);
+    }
+}
+
+/// What the per-camera-sample budget of secondary rays did in a frame.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct BudgetStats {
+    /// The budget: secondary rays (reflection, refraction, glossy, blurry) one camera sample may trace.
+    pub max_secondary_rays: u32,
+    /// Camera samples whose ray tree the budget cut (0 means no pixel was changed by it).
+    pub cut_samples: u64,
+    /// Secondary rays refused, over all camera samples.
+    pub refused_rays: u64,
+    /// Most secondary rays one camera sample traced.
+    pub max_per_sample: u32,
+}
+
+impl BudgetStats {
+    /// The frame's figures from the budget `limit` and the summed `tally`.
+    pub fn new(limit: u32, tally: &BudgetTally) -> Self {
+        Self {
+            max_secondary_rays: limit,
+            cut_samples: tally.cut_samples,
+            refused_rays: tally.refused_rays,
+            max_per_sample: tally.max_per_sample,
+        }
     }
 }
 
@@ -313,6 +370,8 @@ pub struct RenderStats {
     pub grid: GridStats,
     /// Cells visited and primitive tests per ray.
     pub traversal: TraversalStats,
+    /// What the per-camera-sample budget of secondary rays did.
+    pub ray_budget: BudgetStats,
 }
 
 impl Serialize for RenderStats {
@@ -330,6 +389,7 @@ impl Serialize for RenderStats {
             times,
             grid,
             traversal,
+            ray_budget,
         } = self;
         let mut s = serializer.serialize_struct("RenderStats", 12)?;
         s.serialize_field("width", width)?;
@@ -344,6 +404,7 @@ impl Serialize for RenderStats {
         s.serialize_field("times", times)?;
         s.serialize_field("grid", grid)?;
         s.serialize_field("traversal", traversal)?;
+        s.serialize_field("ray_budget", ray_budget)?;
         s.end()
     }
 }
@@ -375,6 +436,7 @@ impl RenderStats {
              grid       {}x{}x{} cells, {} objects, {} references, {} B grid, {} B store\n\
              meshes     {} assets, {} triangles, {} references, {} B grids ({:.1} B/triangle), {} B triangles + {} B mesh data ({:.1} B/triangle)\n\
              per ray    cells visited mean {:.2}, p99 {}; primitive tests mean {:.2}, p99 {} ({} rays)\n\
+             ray budget {} secondary rays per camera sample: {} samples cut, {} rays refused, at most {} used by one sample\n\
              time (ms)  load {:.2}, script {:.2}, world {:.2}, grid build {:.2} (top level) + {:.2} (mesh grids), snapshot {:.2}, trace {:.2}, write {:.2}",
             self.width,
             self.height,
@@ -414,6 +476,10 @@ impl RenderStats {
             self.traversal.tests_mean,
             self.traversal.tests_p99,
             self.traversal.rays,
+            self.ray_budget.max_secondary_rays,
+            self.ray_budget.cut_samples,
+            self.ray_budget.refused_rays,
+            self.ray_budget.max_per_sample,
             t.load * 1e3,
             t.script * 1e3,
             t.world_update * 1e3,
@@ -440,9 +506,30 @@ mod tests {
         assert_eq!(json["mrays_per_s"].as_f64(), Some(2.0));
         assert_eq!(json["rays"]["camera"], 3_000_000);
         let keys: Vec<&str> = json.as_object().unwrap().keys().map(String::as_str).collect();
-        for key in ["width", "rays", "adaptive", "effects", "times", "grid", "traversal", "aov_bytes"] {
+        for key in
+            ["width", "rays", "adaptive", "effects", "times", "grid", "traversal", "aov_bytes", "ray_budget"]
+        {
             assert!(keys.contains(&key), "{key} missing from {keys:?}");
         }
+    }
+
+    #[test]
+    fn the_budget_tally_counts_cut_samples_and_keeps_the_largest_tree() {
+        let mut a = BudgetTally::default();
+        a.record(10, 0);
+        a.record(1024, 7);
+        let mut b = BudgetTally::default();
+        b.record(1024, 1);
+        b.record(3, 0);
+        a.add(&b);
+        assert_eq!(a, BudgetTally { cut_samples: 2, refused_rays: 8, max_per_sample: 1024 });
+        let stats = RenderStats { ray_budget: BudgetStats::new(1024, &a), ..Default::default() };
+        let line =
+            "ray budget 1024 secondary rays per camera sample: 2 samples cut, 8 rays refused, at most 1024";
+        assert!(stats.summary().contains(line), "{}", stats.summary());
+        let json = serde_json::to_value(&stats).unwrap();
+        assert_eq!(json["ray_budget"]["cut_samples"], 2);
+        assert_eq!(json["ray_budget"]["max_secondary_rays"], 1024);
     }
 
     #[test]

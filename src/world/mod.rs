@@ -113,6 +113,7 @@ impl<S: PrimitiveStore + 'static> SceneWorld<S> {
             adaptive: s.adaptive,
             lens: s.lens,
             glossy: s.glossy,
+            max_secondary_rays: s.max_secondary_rays,
         }
     }
 

@@ -98,6 +98,8 @@ pub struct SceneSettings {
     pub lens: Sampling,
     /// Rays per glossy reflection or blurry refraction at the first bounce.
     pub glossy: Sampling,
+    /// Secondary rays one camera sample may trace.
+    pub max_secondary_rays: u32,
 }
 
 impl Default for SceneSettings {
@@ -116,6 +118,7 @@ impl Default for SceneSettings {
             adaptive: None,
             lens: Sampling::default(),
             glossy: RenderSettings::default().glossy,
+            max_secondary_rays: RenderSettings::default().max_secondary_rays,
         }
     }
 }

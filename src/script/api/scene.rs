@@ -16,6 +16,7 @@ use super::properties::closest;
 use crate::scene::format::{CameraDesc, LightDesc, MaterialDesc, SamplingDesc, SceneDesc, SettingsDesc};
 use crate::scene::validate::{
     self, coordinate_rule, MAX_ADAPTIVE_DEPTH, MAX_COORDINATE, MAX_DEPTH, MAX_IMAGE_SIZE, MAX_SAMPLES,
+    MAX_SECONDARY_RAYS,
 };
 use crate::script::state::{
     EntityKind, EntityState, FocusState, LightTerms, MaterialParams, ScriptState, SharedState,
@@ -29,6 +30,7 @@ pub const SETTINGS_PROPERTIES: &[&str] = &[
     "lens_samples",
     "glossy_samples",
     "max_depth",
+    "max_secondary_rays",
     "width",
     "height",
     "seed",
@@ -471,6 +473,7 @@ fn register_settings(engine: &mut Engine) {
     count_property!("lens_samples", lens_samples, 1, MAX_SAMPLES as INT);
     count_property!("glossy_samples", glossy_samples, 1, MAX_SAMPLES as INT);
     count_property!("max_depth", max_depth, 0, MAX_DEPTH as INT);
+    count_property!("max_secondary_rays", max_secondary_rays, 1, MAX_SECONDARY_RAYS as INT);
     count_property!("width", width, 1, MAX_IMAGE_SIZE as INT);
     count_property!("height", height, 1, MAX_IMAGE_SIZE as INT);
     count_property!("seed", seed, 0, INT::MAX);
