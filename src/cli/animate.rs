@@ -19,7 +19,7 @@ use penumbra::scene::{self, SceneDesc};
 use penumbra::script::{Animation, FrameRange, Limits, Script};
 use penumbra::trace::{render_observed, tile_count};
 
-use super::render::{absolute, say, FrameArgs};
+use super::render::{absolute, say, warn_ray_trees, FrameArgs};
 use super::{bad_input, interrupt, meta};
 
 /// Arguments of `penumbra animate`.
@@ -110,6 +110,7 @@ pub fn run_named(args: &AnimateArgs, argv: &[String], names: Option<(&str, &str)
         .map_err(|e| bad_input(e.to_string()))?
         .with_script(&script_name, &absolute(&args.script), script.source().as_bytes());
     args.frame.apply(&mut desc);
+    warn_ray_trees(&desc);
     let format = args.frame.format.unwrap_or(OutputFormat::Png8);
     let tone = args.frame.tone_mapping(&desc);
 

@@ -228,6 +228,7 @@ pub fn run_named(args: &RenderArgs, replay: &[String], scene_name: Option<&str>)
         None => (scene::default_scene(), Inputs::builtin()),
     };
     args.frame.apply(&mut desc);
+    warn_ray_trees(&desc);
     let tone = args.frame.tone_mapping(&desc);
     let load = started.elapsed().as_secs_f64();
 
@@ -289,6 +290,16 @@ fn render_frame<S: PrimitiveStore>(
     stats.times.grid_build = clock.grid_build;
     stats.times.snapshot = clock.snapshot;
     (film, aovs, stats, settings)
+}
+
+/// Prints one `warning:` line on stderr for each material whose ray tree can outgrow the
+/// budget of secondary rays (see [`scene::ray_tree`]), before any rendering.
+pub fn warn_ray_trees(desc: &SceneDesc) {
+    let mut stderr = std::io::stderr().lock();
+    for warning in scene::ray_tree::ray_tree_warnings(desc) {
+        // A closed stderr cannot take a warning; the render goes on regardless.
+        let _ = writeln!(stderr, "warning: {warning}");
+    }
 }
 
 /// Prints a line to stdout; a closed stdout (`penumbra ... | head`) is not an error.

@@ -15,7 +15,7 @@ use penumbra::script::sweep::{self, file_stem, params_of, SweepRecord};
 use penumbra::script::{Limits, Script, ScriptedWorld};
 use penumbra::trace::render_with_aovs;
 
-use super::render::{absolute, say, FrameArgs};
+use super::render::{absolute, say, warn_ray_trees, FrameArgs};
 use super::{bad_input, meta};
 
 /// Arguments of `penumbra sweep`.
@@ -49,6 +49,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
         .map_err(|e| bad_input(e.to_string()))?
         .with_script(&args.script.display().to_string(), &absolute(&args.script), script.source().as_bytes());
     args.frame.apply(&mut desc);
+    warn_ray_trees(&desc);
     let format = args.frame.format.unwrap_or(OutputFormat::Png8);
     let extension = match format {
         OutputFormat::Png8 | OutputFormat::Png16 => "png",

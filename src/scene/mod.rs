@@ -12,6 +12,7 @@
 //! deserialization. [`default_scene`] is the built-in `scenes/default.ron`. [`spawn_world`]
 //! turns a validated scene into a World of entities. [`obj`] imports Wavefront OBJ meshes.
 //! [`inputs`] lists and hashes the files a frame is made from (scene, script, meshes).
+//! [`ray_tree`] bounds a camera sample's ray tree and warns when the ray budget would cut it.
 //!
 //! [`validate`]: validate::validate
 pub mod error;
@@ -21,6 +22,7 @@ pub mod load;
 pub mod locate;
 pub mod mesh;
 pub mod obj;
+pub mod ray_tree;
 pub mod spawn;
 pub mod validate;
 
