@@ -6,6 +6,11 @@
 //! four, needing its centre and four edge midpoints. The pixel's value is the area-weighted
 //! mean of the leaf squares, each leaf the mean of its corners.
 //!
+//! A corner colour that is not finite (NaN or ±∞) is dropped and counted
+//! ([`AdaptiveStats::dropped`]): a leaf averages its finite corners, a square the sub-squares
+//! that kept any, and a pixel that kept nothing is black. Means are taken so that colours near
+//! `f32::MAX` cannot overflow them.
+//!
 //! Every sample point sits on an integer lattice of `R = 2^max_depth` steps per pixel
 //! ([`LatticePoint`]), so points shared between sub-squares and between neighbouring pixels
 //! have one name and are traced once through a shared cache. Because `trace` is a pure
@@ -85,6 +90,9 @@ pub struct AdaptiveStats {
     pub reused: u64,
     /// Squares split into four.
     pub subdivisions: u64,
+    /// Leaf corners dropped because their colour was not finite (a lattice point counts once
+    /// for each leaf square it is a corner of).
+    pub dropped: u64,
 }
 
 impl Add for AdaptiveStats {
@@ -95,6 +103,7 @@ impl Add for AdaptiveStats {
             traced: self.traced + rhs.traced,
             reused: self.reused + rhs.reused,
             subdivisions: self.subdivisions + rhs.subdivisions,
+            dropped: self.dropped + rhs.dropped,
         }
     }
 }
@@ -110,6 +119,29 @@ fn contrast(corners: &[Vec3; 4]) -> f32 {
     let hi = corners[1..].iter().fold(corners[0], |m, c| m.max(*c));
     let lo = corners[1..].iter().fold(corners[0], |m, c| m.min(*c));
     (hi - lo).max_element()
+}
+
+/// The mean of `values`, all finite, with the bits of `(v0 + v1 + …) / n`; where that sum
+/// overflows, the mean of `v / n` instead (finite: at most the largest value). `None` when empty.
+fn finite_mean(values: &[Vec3]) -> Option<Vec3> {
+    let (&first, rest) = values.split_first()?;
+    let n = values.len() as f32;
+    let mean = rest.iter().fold(first, |sum, &v| sum + v) / n;
+    if mean.is_finite() {
+        return Some(mean);
+    }
+    Some(values.iter().fold(Vec3::ZERO, |sum, &v| sum + v / n).min(Vec3::splat(f32::MAX)))
+}
+
+/// The finite ones of four colours, in order, and how many there are.
+fn finite_of(c: [Vec3; 4]) -> ([Vec3; 4], usize) {
+    let mut kept = [Vec3::ZERO; 4];
+    let mut n = 0;
+    for v in c.into_iter().filter(|v| v.is_finite()) {
+        kept[n] = v;
+        n += 1;
+    }
+    (kept, n)
 }
 
 /// The recursion's fixed context: one pixel's refinement.
@@ -136,12 +168,15 @@ impl<F: FnMut(LatticePoint) -> Vec3> Refiner<'_, F> {
     }
 
     /// Mean colour over the square at `(x, y)` of side `size` at `level`, with corner colours
-    /// `c` in the order top-left, top-right, bottom-left, bottom-right.
-    fn square(&mut self, x: u32, y: u32, size: u32, c: [Vec3; 4], level: u32) -> Vec3 {
+    /// `c` in the order top-left, top-right, bottom-left, bottom-right; `None` when every
+    /// sample it would average was dropped as non-finite.
+    fn square(&mut self, x: u32, y: u32, size: u32, c: [Vec3; 4], level: u32) -> Option<Vec3> {
         // A NaN contrast compares false, so it does not subdivide.
         let split = contrast(&c) > self.threshold;
         if level >= self.depth || !split {
-            return (c[0] + c[1] + c[2] + c[3]) * 0.25;
+            let (kept, n) = finite_of(c);
+            self.stats.dropped += (4 - n) as u64;
+            return finite_mean(&kept[..n]);
         }
         self.stats.subdivisions += 1;
         let h = size / 2;
@@ -155,7 +190,12 @@ impl<F: FnMut(LatticePoint) -> Vec3> Refiner<'_, F> {
         let tr = self.square(x + h, y, h, [top, c[1], centre, right], level + 1);
         let bl = self.square(x, y + h, h, [left, centre, c[2], bottom], level + 1);
         let br = self.square(x + h, y + h, h, [centre, right, bottom, c[3]], level + 1);
-        (tl + tr + bl + br) * 0.25
+        let (mut kept, mut n) = ([Vec3::ZERO; 4], 0);
+        for q in [tl, tr, bl, br].into_iter().flatten() {
+            kept[n] = q;
+            n += 1;
+        }
+        finite_mean(&kept[..n])
     }
 }
 
@@ -165,7 +205,8 @@ impl<F: FnMut(LatticePoint) -> Vec3> Refiner<'_, F> {
 /// (0,1), (1,1): top-left, top-right, bottom-left, bottom-right. Points inside are looked up in
 /// `cache` (counted as `reused`) or traced with `trace` (counted as `traced`) and inserted.
 /// `trace` must be a pure function of the lattice point; then the result is independent of
-/// the order pixels are refined in and of the cache's contents, bit for bit.
+/// the order pixels are refined in and of the cache's contents, bit for bit. Non-finite
+/// colours are dropped and counted in `stats.dropped` (see the module documentation).
 ///
 /// # Examples
 /// ```
@@ -195,7 +236,7 @@ pub fn refine_pixel(
 ) -> Vec3 {
     let origin = settings.corner(px, py);
     let mut refiner = Refiner { threshold: settings.threshold, depth: settings.depth(), cache, trace, stats };
-    refiner.square(origin.x, origin.y, settings.resolution(), corners, 0)
+    refiner.square(origin.x, origin.y, settings.resolution(), corners, 0).unwrap_or(Vec3::ZERO)
 }
 
 #[cfg(test)]
@@ -294,12 +335,12 @@ mod tests {
         let mut first = AdaptiveStats::default();
         refine_pixel(0, 0, [Vec3::ZERO; 4], &settings, &mut cache, &mut trace, &mut first);
         // 25 points less the 4 given corners; 5 lookups in each of 5 squares, 4 of them repeats.
-        assert_eq!(first, AdaptiveStats { traced: 21, reused: 4, subdivisions: 5 });
+        assert_eq!(first, AdaptiveStats { traced: 21, reused: 4, subdivisions: 5, dropped: 0 });
         let mut second = AdaptiveStats::default();
         refine_pixel(1, 0, [Vec3::ZERO; 4], &settings, &mut cache, &mut trace, &mut second);
         // The three interior points of the shared edge come from the first pixel.
-        assert_eq!(second, AdaptiveStats { traced: 18, reused: 7, subdivisions: 5 });
-        assert_eq!(first + second, AdaptiveStats { traced: 39, reused: 11, subdivisions: 10 });
+        assert_eq!(second, AdaptiveStats { traced: 18, reused: 7, subdivisions: 5, dropped: 0 });
+        assert_eq!(first + second, AdaptiveStats { traced: 39, reused: 11, subdivisions: 10, dropped: 0 });
         assert!(calls.values().all(|&n| n == 1));
         assert_eq!(calls.len(), 39);
     }
@@ -358,5 +399,55 @@ mod tests {
         let c = refine_image(&forward, &settings, &mut fwd_cache, &mut full_stats);
         assert_eq!(a, c);
         assert_eq!(full_stats.traced, 0);
+    }
+
+    #[test]
+    fn a_nan_corner_is_dropped_and_counted_and_the_leaf_is_the_mean_of_the_others() {
+        let settings = AdaptiveSettings { threshold: 0.5, max_depth: 0 };
+        let corners =
+            [Vec3::splat(f32::NAN), Vec3::splat(0.2), Vec3::splat(0.4), Vec3::new(0.6, 0.6, f32::INFINITY)];
+        let mut trace = |_: LatticePoint| -> Vec3 { panic!("depth 0 traces nothing") };
+        let (mut cache, mut stats) = (HashMap::new(), AdaptiveStats::default());
+        let c = refine_pixel(0, 0, corners, &settings, &mut cache, &mut trace, &mut stats);
+        assert_eq!(stats.dropped, 2);
+        assert!((c - Vec3::splat(0.3)).abs().max_element() < 1e-7, "{c}");
+        // Nothing kept: black, every corner counted.
+        let mut none = AdaptiveStats::default();
+        let c = refine_pixel(0, 0, [Vec3::splat(f32::NAN); 4], &settings, &mut cache, &mut trace, &mut none);
+        assert_eq!((c, none.dropped), (Vec3::ZERO, 4));
+    }
+
+    #[test]
+    fn a_subdivided_pixel_averages_the_squares_that_kept_samples() {
+        // Everything subdivides once; the lattice point in the pixel's centre is NaN, so each
+        // of the four leaves drops one corner and keeps three.
+        let settings = AdaptiveSettings { threshold: -1.0, max_depth: 1 };
+        let r = settings.resolution();
+        let mut trace =
+            |p: LatticePoint| if p == (LatticePoint { x: r / 2, y: r / 2 }) { Vec3::NAN } else { Vec3::ONE };
+        let (mut cache, mut stats) = (HashMap::new(), AdaptiveStats::default());
+        let c = refine_pixel(0, 0, [Vec3::ONE; 4], &settings, &mut cache, &mut trace, &mut stats);
+        assert_eq!((c, stats.dropped, stats.subdivisions), (Vec3::ONE, 4, 1));
+    }
+
+    #[test]
+    fn colours_near_the_largest_float_average_without_overflow() {
+        let big = Vec3::splat(3e38);
+        assert_eq!(finite_mean(&[big; 4]), Some(big));
+        assert_eq!(finite_mean(&[big, big, Vec3::ZERO]), Some(Vec3::splat(2e38)));
+        assert_eq!(finite_mean(&[Vec3::splat(f32::MAX); 3]).map(|m| m.is_finite()), Some(true));
+        assert_eq!(finite_mean(&[]), None);
+        // Ordinary colours keep the bits of the plain sum times a quarter.
+        let c = [
+            Vec3::new(0.1, 0.7, 1e-3),
+            Vec3::new(0.3, 0.2, -0.0),
+            Vec3::splat(0.9),
+            Vec3::new(2.5, 0.0, 0.3),
+        ];
+        assert_eq!(finite_mean(&c), Some((c[0] + c[1] + c[2] + c[3]) * 0.25));
+        let settings = AdaptiveSettings { threshold: f32::MAX, max_depth: 3 };
+        let mut trace = |_: LatticePoint| -> Vec3 { panic!("a flat pixel traces nothing") };
+        let (mut cache, mut stats) = (HashMap::new(), AdaptiveStats::default());
+        assert_eq!(refine_pixel(0, 0, [big; 4], &settings, &mut cache, &mut trace, &mut stats), big);
     }
 }

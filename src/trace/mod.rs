@@ -6,6 +6,7 @@
 
 pub mod aov;
 pub mod effects;
+pub mod finite;
 pub mod integrator;
 pub mod light;
 pub mod material;
@@ -15,6 +16,7 @@ pub mod scene;
 pub mod stats;
 
 pub use effects::Effects;
+pub use finite::DroppedSamples;
 pub use integrator::{
     closest_hit, closest_hit_brute, closest_hit_costed, facing_normals, transmittance, transmittance_costed,
 };

@@ -9,7 +9,8 @@
 //! ([`crate::sample::adaptive`]).
 //!
 //! Every random number is keyed by (seed, frame, pixel, sample, dimension), so the image is
-//! bit-identical for any thread count or tile order.
+//! bit-identical for any thread count or tile order. A sample whose radiance is not finite is
+//! dropped and counted where its pixel accumulates it ([`super::finite`]).
 
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU32, Ordering};
@@ -19,6 +20,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use super::aov::first_hit_aovs;
+use super::finite::{DropTally, SampleMean};
 use super::integrator::{radiance, CameraSample, PathContext, DEFAULT_MAX_SECONDARY_RAYS};
 use super::scene::TraceScene;
 use super::stats::{AdaptiveCounts, BudgetStats, GridStats, MeshGridStats, RayCounts, RenderStats};
@@ -152,12 +154,11 @@ pub fn render_observed<S: PrimitiveStore>(
         let empty = (!wanted.is_empty()).then(|| Aovs::new(wanted, settings.width, settings.height));
         return (Film::new(settings.width, settings.height), empty, RenderStats::default());
     }
-    let (film, mut rays, adaptive, cost) = match settings.adaptive {
+    let (Assembled { film, mut rays, cost, dropped }, adaptive) = match settings.adaptive {
         Some(adaptive) => render_adaptive(scene, settings, &adaptive, wanted.cost, &tile_done),
         None => {
             let pixel = |x, y, rays: &mut RayCounts| fixed_pixel(scene, settings, x, y, rays);
-            let (film, rays, cost) = render_tiles(settings, wanted.cost, pixel, &tile_done);
-            (film, rays, AdaptiveCounts::default(), cost)
+            (render_tiles(settings, wanted.cost, pixel, &tile_done), AdaptiveCounts::default())
         }
     };
     let aovs = (!wanted.is_empty()).then(|| {
@@ -173,6 +174,7 @@ pub fn render_observed<S: PrimitiveStore>(
         adaptive,
         effects: scene.effects,
         aov_bytes: aovs.as_ref().map_or(0, |a| a.memory_bytes() as u64),
+        dropped: dropped.finish(settings.width),
         samples_per_pixel: match settings.adaptive {
             Some(_) => 0,
             None => {
@@ -196,19 +198,29 @@ pub fn render_observed<S: PrimitiveStore>(
     (film, aovs, stats)
 }
 
-/// The output of one tile: colours, and rays per pixel when the cost AOV is wanted.
-type TileResult = (Vec<Vec3>, Vec<u32>, RayCounts);
+/// The output of one tile: colours, rays per pixel when the cost AOV is wanted, and the
+/// samples its pixels dropped.
+type TileResult = (Vec<Vec3>, Vec<u32>, RayCounts, DropTally);
 
-/// Runs `pixel` over every pixel, tiles in parallel, and assembles the film (and the cost
-/// image when `want_cost`) in tile order.
+/// A rendered image before statistics: the film, ray counts, the cost image (when wanted) and
+/// the dropped non-finite samples.
+struct Assembled {
+    film: Film,
+    rays: RayCounts,
+    cost: Option<Vec<u32>>,
+    dropped: DropTally,
+}
+
+/// Runs `pixel` (a colour and the samples it dropped) over every pixel, tiles in parallel,
+/// and assembles the film (and the cost image when `want_cost`) in tile order.
 fn render_tiles<F>(
     settings: &RenderSettings,
     want_cost: bool,
     pixel: F,
     tile_done: &(dyn Fn() + Sync),
-) -> (Film, RayCounts, Option<Vec<u32>>)
+) -> Assembled
 where
-    F: Fn(u32, u32, &mut RayCounts) -> Vec3 + Sync,
+    F: Fn(u32, u32, &mut RayCounts) -> (Vec3, u32) + Sync,
 {
     let (w, h) = (settings.width, settings.height);
     let tiles_x = w.div_ceil(TILE);
@@ -219,11 +231,12 @@ where
             let mut rays = RayCounts::default();
             let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
             let mut costs = Vec::new();
+            let mut dropped = DropTally::default();
             for y in y0..(y0 + TILE).min(h) {
                 for x in x0..(x0 + TILE).min(w) {
                     let before = rays.total();
-                    let c = pixel(x, y, &mut rays);
-                    debug_assert!(c.is_finite(), "non-finite radiance at pixel ({x}, {y})");
+                    let (c, n) = pixel(x, y, &mut rays);
+                    dropped.record(y * w + x, n);
                     pixels.push(c);
                     if want_cost {
                         costs.push(saturate(rays.total() - before));
@@ -231,29 +244,27 @@ where
                 }
             }
             tile_done();
-            (pixels, costs, rays)
+            (pixels, costs, rays, dropped)
         })
         .collect();
     assemble(settings, &tiles, want_cost)
 }
 
-/// The film, total counts and (if wanted) cost image from per-tile results in tile order.
-fn assemble(
-    settings: &RenderSettings,
-    tiles: &[TileResult],
-    want_cost: bool,
-) -> (Film, RayCounts, Option<Vec<u32>>) {
+/// The film, total counts, (if wanted) cost image and dropped samples from per-tile results
+/// in tile order.
+fn assemble(settings: &RenderSettings, tiles: &[TileResult], want_cost: bool) -> Assembled {
     let (w, h) = (settings.width, settings.height);
     let tiles_x = w.div_ceil(TILE);
     let mut film = Film::new(w, h);
     let mut cost = want_cost.then(|| vec![0u32; w as usize * h as usize]);
     let mut rays = RayCounts::default();
-    for (tile, (pixels, costs, counts)) in tiles.iter().enumerate() {
+    let mut dropped = DropTally::default();
+    for (tile, (pixels, costs, counts, drops)) in tiles.iter().enumerate() {
         let (x0, y0) = (tile as u32 % tiles_x * TILE, tile as u32 / tiles_x * TILE);
         let tw = TILE.min(w - x0);
         for (k, &c) in pixels.iter().enumerate() {
             let (x, y) = (x0 + k as u32 % tw, y0 + k as u32 / tw);
-            // Every path (fixed samples or adaptive) reaches the film here.
+            // Every path (fixed samples or adaptive) reaches the film here, finite by construction.
             debug_assert!(c.is_finite(), "non-finite radiance at pixel ({x}, {y})");
             film.set(x, y, c);
             if let (Some(cost), Some(&n)) = (cost.as_mut(), costs.get(k)) {
@@ -261,28 +272,30 @@ fn assemble(
             }
         }
         rays.add(counts);
+        dropped.add(drops);
     }
-    (film, rays, cost)
+    Assembled { film, rays, cost, dropped }
 }
 
 fn saturate(n: u64) -> u32 {
     u32::try_from(n).unwrap_or(u32::MAX)
 }
 
-/// A pixel as the mean of its fixed set of camera samples.
+/// A pixel as the mean of its fixed set of camera samples, less those dropped as non-finite,
+/// and how many were dropped.
 fn fixed_pixel<S: PrimitiveStore>(
     scene: &TraceScene<S>,
     settings: &RenderSettings,
     x: u32,
     y: u32,
     rays: &mut RayCounts,
-) -> Vec3 {
+) -> (Vec3, u32) {
     let pixel = y * settings.width + x;
     let patterns = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample: PIXEL_PATTERNS };
     let n_aa = settings.aa.sampling.samples.max(1);
     let n_lens = if scene.camera.has_lens() { settings.lens.samples.max(1) } else { 1 };
     let n = n_aa * n_lens;
-    let mut sum = Vec3::ZERO;
+    let mut mean = SampleMean::default();
     for i in 0..n_aa {
         let offset = pixel_offset(&settings.aa, n_aa, i, uniform2(&patterns, DIM_PIXEL, i));
         let (px, py) = (x as f32 + offset.x, y as f32 + offset.y);
@@ -301,10 +314,10 @@ fn fixed_pixel<S: PrimitiveStore>(
             };
             let key = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample };
             let camera = CameraSample { key, pixel: patterns, slot: sample, spp: n };
-            sum += trace_camera_ray(scene, settings, &ray, camera, rays);
+            mean.add(trace_camera_ray(scene, settings, &ray, camera, rays));
         }
     }
-    sum / n as f32
+    (mean.mean(), mean.dropped())
 }
 
 /// Where in the pixel (in pixel units from its top-left corner) sample `i` of `n` lands.
@@ -335,13 +348,14 @@ fn trace_camera_ray<S: PrimitiveStore>(
 /// Adaptive supersampling: the `(W+1) × (H+1)` pixel corners first (each traced once), then
 /// every pixel refined by corner subdivision, tiles in parallel with a cache per tile. In the
 /// cost image a corner's rays count for the pixel whose top-left corner it is (clamped).
+/// Non-finite lattice samples are dropped by [`refine_pixel`] and counted per pixel.
 fn render_adaptive<S: PrimitiveStore>(
     scene: &TraceScene<S>,
     settings: &RenderSettings,
     adaptive: &AdaptiveSettings,
     want_cost: bool,
     tile_done: &(dyn Fn() + Sync),
-) -> (Film, RayCounts, AdaptiveCounts, Option<Vec<u32>>) {
+) -> (Assembled, AdaptiveCounts) {
     let (w, h) = (settings.width, settings.height);
     let res = adaptive.resolution();
     let point = |p: LatticePoint, rays: &mut RayCounts| lattice_sample(scene, settings, res, p, rays);
@@ -376,19 +390,22 @@ fn render_adaptive<S: PrimitiveStore>(
             let mut cache = HashMap::new();
             let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
             let mut costs = Vec::new();
+            let mut dropped = DropTally::default();
             for y in y0..(y0 + TILE).min(h) {
                 for x in x0..(x0 + TILE).min(w) {
                     let corners = [corner(x, y), corner(x + 1, y), corner(x, y + 1), corner(x + 1, y + 1)];
                     let before = rays.total();
+                    let dropped_before = stats.dropped;
                     let mut trace = |p: LatticePoint| point(p, &mut rays);
                     pixels.push(refine_pixel(x, y, corners, adaptive, &mut cache, &mut trace, &mut stats));
+                    dropped.record(y * w + x, saturate(stats.dropped - dropped_before));
                     if want_cost {
                         costs.push(saturate(rays.total() - before));
                     }
                 }
             }
             tile_done();
-            ((pixels, costs, rays), stats)
+            ((pixels, costs, rays, dropped), stats)
         })
         .collect();
     let mut counts = AdaptiveCounts { traced: u64::from(w + 1) * u64::from(h + 1), ..Default::default() };
@@ -398,17 +415,17 @@ fn render_adaptive<S: PrimitiveStore>(
         counts.subdivisions += s.subdivisions;
     });
     let tiles: Vec<TileResult> = refined.into_iter().map(|(t, _)| t).collect();
-    let (film, mut rays, mut cost) = assemble(settings, &tiles, want_cost);
+    let mut image = assemble(settings, &tiles, want_cost);
     for (cy, (_, costs, row_rays)) in rows.iter().enumerate() {
-        rays.add(row_rays);
-        if let Some(cost) = cost.as_mut() {
+        image.rays.add(row_rays);
+        if let Some(cost) = image.cost.as_mut() {
             let y = (cy as u32).min(h - 1);
             for (cx, &n) in costs.iter().enumerate() {
                 cost[(y * w + (cx as u32).min(w - 1)) as usize] += n;
             }
         }
     }
-    (film, rays, counts, cost)
+    (image, counts)
 }
 
 /// The colour at a lattice point (image position `p / res`): one camera sample, with one lens

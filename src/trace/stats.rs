@@ -6,6 +6,7 @@ use serde::ser::SerializeStruct;
 use serde::{Serialize, Serializer};
 
 use super::effects::Effects;
+use super::finite::DroppedSamples;
 
 /// Rays traced, by kind.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
@@ -364,6 +365,8 @@ pub struct RenderStats {
     pub samples_per_pixel: u32,
     /// Bytes of the AOV buffers (0 when none was asked for).
     pub aov_bytes: u64,
+    /// Samples dropped because their radiance was not finite (see [`super::finite`]).
+    pub dropped: DroppedSamples,
     /// Seconds per stage.
     pub times: StageTimes,
     /// Grid figures.
@@ -386,12 +389,13 @@ impl Serialize for RenderStats {
             effects,
             samples_per_pixel,
             aov_bytes,
+            dropped,
             times,
             grid,
             traversal,
             ray_budget,
         } = self;
-        let mut s = serializer.serialize_struct("RenderStats", 12)?;
+        let mut s = serializer.serialize_struct("RenderStats", 14)?;
         s.serialize_field("width", width)?;
         s.serialize_field("height", height)?;
         s.serialize_field("threads", threads)?;
@@ -401,6 +405,7 @@ impl Serialize for RenderStats {
         s.serialize_field("effects", effects)?;
         s.serialize_field("samples_per_pixel", samples_per_pixel)?;
         s.serialize_field("aov_bytes", aov_bytes)?;
+        s.serialize_field("non_finite", dropped)?;
         s.serialize_field("times", times)?;
         s.serialize_field("grid", grid)?;
         s.serialize_field("traversal", traversal)?;
@@ -432,6 +437,7 @@ impl RenderStats {
             "image      {}x{}, {} threads, {} camera samples per pixel, effects: {}\n\
              rays       {} total: camera {}, lens {}, shadow {}, area shadow {}, reflection {}, glossy {}, refraction {}, blurry {}\n\
              adaptive   {} points traced, {} reused, {} subdivisions\n\
+             {}\n\
              speed      {:.2} Mrays/s\n\
              grid       {}x{}x{} cells, {} objects, {} references, {} B grid, {} B store\n\
              meshes     {} assets, {} triangles, {} references, {} B grids ({:.1} B/triangle), {} B triangles + {} B mesh data ({:.1} B/triangle)\n\
@@ -455,6 +461,7 @@ impl RenderStats {
             self.adaptive.traced,
             self.adaptive.reused,
             self.adaptive.subdivisions,
+            self.dropped.summary_line(),
             self.mrays_per_s(),
             self.grid.dims[0],
             self.grid.dims[1],
