@@ -1,6 +1,6 @@
 //! The camera: a pinhole, or a thin lens with an aperture and a focal plane (depth of field).
 
-use crate::math::{Ray, Vec2, Vec3};
+use crate::math::{unit_and_length, Ray, Vec2, Vec3};
 
 /// A pinhole or thin-lens camera. Image x grows right, y grows down; the view looks along
 /// `forward`.
@@ -65,12 +65,23 @@ impl Camera {
     /// The thin-lens ray through image coordinates `(px, py)` leaving the lens at `lens`, a
     /// point of the unit disk: it starts on the aperture and passes through the point where the
     /// pinhole ray meets the plane in focus, so that plane is sharp for any aperture.
+    ///
+    /// Safe for any finite aperture: where the lens point is so far from the focus point that
+    /// the squared distance overflows (or so near that it underflows), the direction is taken
+    /// from the scaled vector; a lens point on the focus point looks along `forward`.
     #[inline]
     pub fn lens_ray(&self, px: f32, py: f32, width: u32, height: u32, lens: Vec2) -> Ray {
         let d = self.direction(px, py, width, height);
         let focus = self.position + d * self.focus_distance;
         let origin = self.position + self.aperture * (lens.x * self.right + lens.y * self.up);
-        Ray::new(origin, (focus - origin).normalize())
+        let to = focus - origin;
+        let len2 = to.length_squared();
+        let dir = if len2.is_finite() && len2 >= f32::MIN_POSITIVE {
+            to.normalize()
+        } else {
+            unit_and_length(to).map_or(self.forward, |(unit, _)| unit)
+        };
+        Ray::new(origin, dir)
     }
 }
 
@@ -105,5 +116,23 @@ mod tests {
         }
         let centre = cam.lens_ray(13.0, 7.0, 40, 30, Vec2::ZERO);
         assert!((centre.dir - pin.dir).length() < 1e-6, "the lens centre is the pinhole");
+    }
+
+    #[test]
+    fn huge_apertures_give_unit_directions_towards_the_focus_point() {
+        let base = Camera::look_at(Vec3::new(0.0, 1.0, -5.0), Vec3::new(0.0, 0.5, 0.0), Vec3::Y, 1.0);
+        for aperture in [1e9f32, 1e17, 1e18, 1e30, f32::MAX] {
+            let cam = base.with_lens(aperture, 5.0);
+            let pin = cam.ray(20.0, 15.0, 32, 24);
+            let target = pin.at(5.0 / pin.dir.dot(cam.forward));
+            for lens in [Vec2::new(1.0, 0.0), Vec2::new(-0.3, 0.8), Vec2::new(0.0, -1e-3)] {
+                let r = cam.lens_ray(20.0, 15.0, 32, 24, lens);
+                assert!(r.origin.is_finite() && r.dir.is_finite(), "aperture {aperture}, lens {lens}: {r:?}");
+                assert!((r.dir.length() - 1.0).abs() < 1e-5, "aperture {aperture}: {}", r.dir);
+                // Towards the focus point: the direction from the origin to it, to f32 precision.
+                let (towards, _) = unit_and_length(target - r.origin).unwrap();
+                assert!((r.dir - towards).length() < 1e-5, "aperture {aperture}, lens {lens}");
+            }
+        }
     }
 }

@@ -155,6 +155,20 @@ pub fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
     Some((eta * d + (eta * cos_i - cos_t) * n).normalize())
 }
 
+/// The unit vector along `v` and `v`'s length, computed on `v` divided by its largest
+/// component so that `v · v` can neither overflow nor underflow (the length itself may round
+/// to +∞ when `v` is near `f32::MAX`); `None` for a zero or non-finite `v`. The fallback for
+/// where `normalize` and `length` would give NaN or zero.
+pub fn unit_and_length(v: Vec3) -> Option<(Vec3, f32)> {
+    let m = v.abs().max_element();
+    if !(m > 0.0 && v.is_finite()) {
+        return None;
+    }
+    let u = v / m;
+    let len = u.length();
+    Some((u / len, m * len))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -184,5 +198,24 @@ mod tests {
         let steep = 45f32.to_radians();
         let d = Vec3::new(steep.sin(), -steep.cos(), 0.0);
         assert!(refract(d, n, 1.5).is_none());
+    }
+
+    #[test]
+    fn unit_and_length_survives_huge_and_tiny_vectors() {
+        for (v, len) in [
+            (Vec3::new(3e30, 4e30, 0.0), 5e30),
+            (Vec3::new(0.0, -3e-30, 4e-30), 5e-30),
+            (Vec3::new(3.0, 4.0, 0.0), 5.0),
+            (Vec3::new(1e-45, 0.0, 0.0), 1e-45),
+        ] {
+            let (u, l) = unit_and_length(v).unwrap();
+            assert!((u.length() - 1.0).abs() < 1e-6 && (u - v / len).length() < 1e-6, "{v} -> {u}");
+            assert!((l / len - 1.0).abs() < 1e-6, "{v}: {l}");
+        }
+        let (u, l) = unit_and_length(Vec3::splat(f32::MAX)).unwrap();
+        assert!(u.is_finite() && (u.length() - 1.0).abs() < 1e-6 && l == f32::INFINITY);
+        assert_eq!(unit_and_length(Vec3::ZERO), None);
+        assert_eq!(unit_and_length(Vec3::new(f32::NAN, 1.0, 0.0)), None);
+        assert_eq!(unit_and_length(Vec3::new(f32::INFINITY, 1.0, 0.0)), None);
     }
 }

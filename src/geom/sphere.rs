@@ -1,6 +1,6 @@
 //! Sphere: centre and radius.
 
-use crate::math::{Aabb, Ray, Vec3};
+use crate::math::{unit_and_length, Aabb, Ray, Vec3};
 
 /// The bounds of a sphere.
 #[inline]
@@ -36,10 +36,27 @@ pub fn intersect(centre: Vec3, radius: f32, ray: &Ray, t_min: f32, t_max: f32) -
     }
 }
 
-/// Outward unit normal at a point on the sphere.
+/// Outward unit normal at a point `p` where `ray` hit the sphere.
+///
+/// Always finite: where rounding put `p` on the centre (a sphere far smaller than the float
+/// spacing of its coordinates, or a hit point from a ray that started very far away), the
+/// normal is the ray's direction when the ray started inside the sphere and its reverse
+/// otherwise, so the hit is shaded as facing the ray on the side it arrived from.
 #[inline]
-pub fn normal(centre: Vec3, radius: f32, p: Vec3) -> Vec3 {
-    ((p - centre) / radius).normalize()
+pub fn normal(centre: Vec3, radius: f32, p: Vec3, ray: &Ray) -> Vec3 {
+    let n = ((p - centre) / radius).normalize();
+    if n.is_finite() {
+        return n;
+    }
+    if let Some((n, _)) = unit_and_length(p - centre) {
+        return n;
+    }
+    let inside = (ray.origin - centre).length_squared() < radius * radius;
+    if inside {
+        ray.dir
+    } else {
+        -ray.dir
+    }
 }
 
 /// True when the sphere overlaps the box (exact: distance from centre to box ≤ radius).
@@ -60,6 +77,26 @@ mod tests {
         let inside = Ray::new(Vec3::ZERO, Vec3::Z);
         assert_eq!(intersect(Vec3::ZERO, 1.0, &inside, 0.0, f32::INFINITY), Some(1.0));
         assert_eq!(intersect(Vec3::ZERO, 1.0, &ray, 0.0, 3.9), None);
+    }
+
+    #[test]
+    fn normals_are_finite_when_the_hit_point_rounds_onto_the_centre() {
+        // A camera at the centre of a sphere of radius 5e-7 at 1e7: the hit point rounds back
+        // onto the centre.
+        let centre = Vec3::splat(1e7);
+        let inside = Ray::new(centre, Vec3::Z);
+        let t = intersect(centre, 5e-7, &inside, 0.0, f32::INFINITY).unwrap();
+        let p = inside.at(t);
+        assert_eq!(p, centre);
+        assert_eq!(normal(centre, 5e-7, p, &inside), Vec3::Z);
+        let outside = Ray::new(Vec3::new(1e7, 1e7, 0.0), Vec3::Z);
+        assert_eq!(normal(centre, 5e-7, centre, &outside), -Vec3::Z);
+        // Near the origin the offset is representable: the plain normal.
+        let near = Ray::new(Vec3::ZERO, Vec3::X);
+        let t = intersect(Vec3::ZERO, 5e-7, &near, 0.0, f32::INFINITY).unwrap();
+        assert!((normal(Vec3::ZERO, 5e-7, near.at(t), &near) - Vec3::X).length() < 1e-6);
+        // An offset too small to square still has a direction.
+        assert_eq!(normal(Vec3::ZERO, 1e-30, Vec3::new(0.0, -1e-40, 0.0), &near), -Vec3::Y);
     }
 
     #[test]

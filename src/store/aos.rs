@@ -219,7 +219,7 @@ impl PrimitiveStore for AosStore {
         let obj = &self.objects[hit.object as usize];
         let (normal, shading, lift) = match &obj.shape {
             AosShape::Sphere { centre, radius } => {
-                let n = sphere::normal(*centre, *radius, point);
+                let n = sphere::normal(*centre, *radius, point, ray);
                 (n, n, Vec3::ZERO)
             }
             AosShape::Triangles { first, .. } => {

@@ -318,7 +318,7 @@ impl PrimitiveStore for SoaStore {
         let first = self.first[o] as usize;
         let (normal, shading, lift) = match self.kind[o] {
             Kind::Sphere => {
-                let n = sphere::normal(self.centre.get(first), self.radius[first], point);
+                let n = sphere::normal(self.centre.get(first), self.radius[first], point, ray);
                 (n, n, Vec3::ZERO)
             }
             Kind::Triangles => {

@@ -6,7 +6,8 @@
 //! those points (each a point light with the light's radiance). Area lights are not visible
 //! to camera rays.
 
-use crate::math::{Vec2, Vec3};
+use super::finite::clamp_radiance;
+use crate::math::{unit_and_length, Vec2, Vec3};
 use crate::sample::pattern::{disk_point, square_point};
 use crate::sample::Pattern;
 
@@ -69,7 +70,9 @@ impl Light {
     pub fn towards(&self, p: Vec3) -> (Vec3, f32, Vec3) {
         match *self {
             Light::Point { position, radiance } => towards_point(p, position, radiance),
-            Light::Directional { direction, radiance } => (-direction, f32::INFINITY, radiance),
+            Light::Directional { direction, radiance } => {
+                (-direction, f32::INFINITY, clamp_radiance(radiance))
+            }
             Light::Rect { corner, edge_u, edge_v, radiance, .. } => {
                 towards_point(p, corner + 0.5 * (edge_u + edge_v), radiance)
             }
@@ -112,9 +115,50 @@ impl Light {
     }
 }
 
+/// Below this distance to a light, `to / |to|` loses precision: [`unit_and_length`] takes over.
+const TINY_DISTANCE: f32 = 1e-18;
+
+/// Direction and distance from `p` to a point of a light, and the radiance arriving (at most
+/// `f32::MAX` per channel). Safe at any distance: far points (where `|to|²` overflows) and
+/// near ones (where it underflows) are handled on a scaled vector, and a light exactly at `p`
+/// gives a zero direction, which every caller skips as facing away.
 #[inline]
 fn towards_point(p: Vec3, position: Vec3, radiance: Vec3) -> (Vec3, f32, Vec3) {
     let to = position - p;
     let dist = to.length();
-    (to / dist, dist, radiance)
+    let radiance = clamp_radiance(radiance);
+    if dist.is_finite() && dist >= TINY_DISTANCE {
+        return (to / dist, dist, radiance);
+    }
+    match unit_and_length(to) {
+        Some((dir, dist)) => (dir, dist, radiance),
+        None => (Vec3::ZERO, 0.0, radiance),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn towards_a_point_is_finite_near_far_and_at_the_light() {
+        let one = Vec3::ONE;
+        let (d, dist, _) = towards_point(Vec3::new(-1e30, 0.0, 0.0), Vec3::new(1e30, 0.0, 0.0), one);
+        assert_eq!((d, dist), (Vec3::X, 2e30));
+        let (d, dist, _) = towards_point(Vec3::ZERO, Vec3::new(0.0, 3e-25, 4e-25), one);
+        assert!((d - Vec3::new(0.0, 0.6, 0.8)).length() < 1e-6 && (dist - 5e-25).abs() < 1e-30);
+        let (d, dist, _) = towards_point(Vec3::splat(1e7), Vec3::splat(1e7), one);
+        assert_eq!((d, dist), (Vec3::ZERO, 0.0));
+        // An ordinary distance keeps the plain bits.
+        let to = Vec3::new(1.0, 2.0, -2.5);
+        assert_eq!(towards_point(Vec3::ZERO, to, one).0, to / to.length());
+    }
+
+    #[test]
+    fn radiance_beyond_the_largest_float_arrives_as_the_largest_float() {
+        let light = Light::Point { position: Vec3::Y, radiance: Vec3::new(f32::INFINITY, 3e38, 0.0) };
+        assert_eq!(light.towards(Vec3::ZERO).2, Vec3::new(f32::MAX, 3e38, 0.0));
+        let sun = Light::Directional { direction: -Vec3::Y, radiance: Vec3::splat(f32::INFINITY) };
+        assert_eq!(sun.towards(Vec3::ZERO), (Vec3::Y, f32::INFINITY, Vec3::splat(f32::MAX)));
+    }
 }

@@ -28,7 +28,9 @@ pub struct Surface {
 pub fn phong(m: &Material, normal: Vec3, view: Vec3, to_light: Vec3, n_dot_l: f32) -> Vec3 {
     let diffuse = m.kd * n_dot_l;
     if m.ks > 0.0 {
-        let r_dot_v = reflect(-to_light, normal).dot(view).max(0.0);
+        // R·V of unit vectors is at most 1, but rounds a little above it at the highlight's
+        // centre, where a huge shininess would raise it to +∞.
+        let r_dot_v = reflect(-to_light, normal).dot(view).clamp(0.0, 1.0);
         diffuse + Vec3::splat(m.ks * r_dot_v.powf(m.shininess))
     } else {
         diffuse
@@ -100,4 +102,26 @@ fn shadow<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max: f32, ctx: 
     let pass = transmittance_costed(scene, ray, t_max, &mut cost);
     ctx.rays.traversal.record(cost);
     pass
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_huge_shininess_gives_a_highlight_of_at_most_ks() {
+        let m = Material { kd: Vec3::splat(0.2), ks: 0.5, shininess: 1e9, ..Material::default() };
+        // The viewer on the mirror direction: R·V rounds to just above 1 for some of these.
+        let mut above_one = 0;
+        for k in 0..2000 {
+            let a = k as f32 * 1e-4;
+            let normal = Vec3::new(a.sin(), a.cos(), 0.0).normalize();
+            let to_light = Vec3::new(0.3 * a, 1.0, 0.1).normalize();
+            let view = reflect(-to_light, normal).normalize();
+            above_one += u32::from(reflect(-to_light, normal).dot(view) > 1.0);
+            let c = phong(&m, normal, view, to_light, normal.dot(to_light).max(0.0));
+            assert!(c.is_finite() && c.max_element() <= 0.2 + 0.5 + 1e-6, "{k}: {c}");
+        }
+        assert!(above_one > 0, "no case rounds R·V above 1; the test would prove nothing");
+    }
 }
