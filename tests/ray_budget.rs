@@ -9,6 +9,7 @@ use std::process::{Command, Output};
 use penumbra::scene::ray_tree::ray_tree_warnings;
 use penumbra::scene::validate::MAX_SECONDARY_RAYS;
 use penumbra::scene::{load_scene, parse_scene, spawn_world};
+use penumbra::script::{Clock, Limits, Script, ScriptedWorld};
 use penumbra::trace::{render, RenderSettings, RenderStats};
 use penumbra::world::SceneWorld;
 
@@ -226,5 +227,32 @@ fn a_budget_out_of_range_exits_2_at_its_line_and_column() {
         );
         assert!(stderr.contains(&expected), "expected `{expected}` in {stderr}");
         assert!(!dir.path().join("bad.png").exists());
+    }
+}
+
+#[test]
+fn a_script_sets_the_budget_within_its_range() {
+    let desc = parse_scene(&glass_scene("", 0.0), "test.ron").unwrap();
+    let script = |body: &str| {
+        let source = format!("fn frame(t) {{\n    {body}\n}}\n");
+        let script = Script::from_source("budget.rhai", &source, Limits::default()).unwrap();
+        let mut world: ScriptedWorld = ScriptedWorld::new(spawn_world(&desc), &script);
+        world.setup().unwrap();
+        let result = world.frame(Clock::at(0, 24.0));
+        (result, world)
+    };
+    let (result, mut world) = script("settings.max_secondary_rays = settings.max_secondary_rays * 4;");
+    result.unwrap_or_else(|e| panic!("{e}"));
+    let snapshot = world.update();
+    let settings = world.world().render_settings();
+    assert_eq!(settings.max_secondary_rays, 4096);
+    let (_, stats) = render(&snapshot, &settings);
+    assert_eq!(stats.ray_budget.max_per_sample, 4096);
+    for bad in ["0", "16777217"] {
+        let (result, _) = script(&format!("settings.max_secondary_rays = {bad};"));
+        let e = result.expect_err("out of range");
+        let rule = format!("settings.max_secondary_rays must be in 1..=16777216, got {bad}");
+        assert!(e.to_string().contains(&rule), "{e}");
+        assert_eq!(e.line, Some(2), "{e}");
     }
 }
