@@ -104,6 +104,10 @@ pub struct FrameArgs {
     /// White point of the Reinhard operator, > 0 (overrides the scene).
     #[arg(long, value_name = "W", value_parser = parse_white)]
     white: Option<f32>,
+    /// Fail (exit 1, nothing written) when a sample's radiance is not finite, instead of
+    /// dropping the sample with a warning.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// An effect whose sampling the command line can set.
@@ -247,6 +251,7 @@ pub fn run_named(args: &RenderArgs, replay: &[String], scene_name: Option<&str>)
     stats.times.mesh_grid_build = desc.meshes.grid_build_seconds();
     stats.times.load = (load - stats.times.mesh_grid_build).max(0.0);
 
+    args.frame.check_film(&stats, "")?;
     let metadata = meta::describe(&inputs, &settings, &tone, replay);
     let started = Instant::now();
     let written = write_image(&film, aovs.as_ref(), &args.output, format, &tone, &metadata)?;
@@ -317,6 +322,21 @@ impl FrameArgs {
         apply_effects(desc, self);
     }
 
+    /// Warns on stderr (one line, after `context`) when samples were dropped as non-finite;
+    /// under `--strict` that is an error instead (exit 1), before anything is written.
+    pub fn check_film(&self, stats: &RenderStats, context: &str) -> anyhow::Result<()> {
+        match stats.dropped.verdict(self.strict) {
+            Ok(None) => Ok(()),
+            Ok(Some(warning)) => {
+                // A closed stderr cannot take a warning; the render goes on regardless.
+                let _ = writeln!(std::io::stderr().lock(), "{context}{warning}");
+                Ok(())
+            }
+            Err(e) if context.is_empty() => Err(e.into()),
+            Err(e) => Err(anyhow::Error::new(e).context(context.trim_end_matches([':', ' ']).to_owned())),
+        }
+    }
+
     /// The encoding of `output`: `--format`, else from its extension. A format that
     /// contradicts a known extension (`-o a.exr --format png16`) is refused.
     pub fn format_for(&self, output: &Path) -> anyhow::Result<OutputFormat> {
@@ -348,9 +368,9 @@ impl FrameArgs {
         }
     }
 
-    /// Every option that changes the pixels, as text (the thread count never does).
+    /// Every option that changes the pixels, as text (the thread count and `--strict` never do).
     pub fn fingerprint(&self) -> String {
-        format!("{:?}", FrameArgs { threads: None, ..self.clone() })
+        format!("{:?}", FrameArgs { threads: None, strict: false, ..self.clone() })
     }
 
     /// A rayon pool of `--threads` workers (default: one per core).

@@ -82,6 +82,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
             stats.times.world_update = clock.bounds;
             stats.times.grid_build = clock.grid_build;
             stats.times.snapshot = clock.snapshot;
+            args.frame.check_film(&stats, &format!("parameter set {index}: "))?;
 
             let params = params_of(set);
             let file = format!("{}.{extension}", file_stem(index, &params));
