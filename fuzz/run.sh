@@ -16,13 +16,14 @@ set -uo pipefail
 
 runs="${1:-100000}"
 max_time="${FUZZ_MAX_TIME:-900}"
-targets="${FUZZ_TARGETS:-scene obj script}"
+targets="${FUZZ_TARGETS:-scene obj script render}"
 cd "$(dirname "$0")" || exit 2
 
 declare -A extra=(
     [scene]="-max_len=16384"
     [obj]="-max_len=65536"
     [script]="-max_len=4096"
+    [render]="-max_len=16384"
 )
 
 toolchain=()
@@ -46,6 +47,7 @@ declare -A shipped=(
     [scene]="../scenes/*.ron"
     [obj]="../scenes/*.obj"
     [script]="../scripts/*.rhai"
+    [render]="../scenes/*.ron"
 )
 
 for target in $targets; do

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 fn seeds(target: &str) -> Vec<(PathBuf, Vec<u8>)> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let (shipped, extension) = match target {
-        "scene" => ("scenes", "ron"),
+        "scene" | "render" => ("scenes", "ron"),
         "obj" => ("scenes", "obj"),
         "script" => ("scripts", "rhai"),
         other => panic!("no fuzz target `{other}`"),
@@ -65,6 +65,24 @@ fn scene_seeds_regressions_and_nasty_inputs_never_panic() {
     }
     for bytes in nasty() {
         fuzz_entries::scene(&bytes).expect_err("nasty input is not a scene");
+    }
+}
+
+#[test]
+fn render_seeds_regressions_and_nasty_inputs_give_finite_films() {
+    let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut rendered = 0;
+    for (path, bytes) in seeds("render") {
+        match fuzz_entries::render(&bytes) {
+            Ok(()) => rendered += 1,
+            Err(message) => {
+                assert!(!path.starts_with(&shipped) || message.contains(".obj"), "{}: {message}", path.display())
+            }
+        }
+    }
+    assert!(rendered >= 10, "only {rendered} seeds rendered");
+    for bytes in nasty() {
+        fuzz_entries::render(&bytes).expect_err("nasty input is not a scene");
     }
 }
 

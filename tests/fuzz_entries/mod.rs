@@ -13,6 +13,7 @@ use penumbra::accel::MESH_LAMBDA;
 use penumbra::scene::obj::parse_obj;
 use penumbra::scene::{parse_scene_at, spawn_world, SceneDesc};
 use penumbra::script::{Animation, Limits, Script};
+use penumbra::scene::LightDesc;
 use penumbra::store::{MeshAsset, SoaStore};
 use penumbra::world::components::WorldAabb;
 
@@ -55,6 +56,49 @@ pub fn scene(data: &[u8]) -> Result<(), String> {
             let message = error.to_string();
             assert!(message.contains("fuzz.ron"), "the error does not name the file: {message}");
             Err(message)
+        }
+    }
+}
+
+/// Target `render`: the bytes as a RON scene file `fuzz.ron`, accepted scenes rendered end to
+/// end at a tiny size with every sample count small (at most 8×6 pixels, 4 samples of each
+/// effect, adaptive depth 2, ray depth 6). The film must be finite without dropping a single
+/// sample: a non-finite sample is a numerical gap that legal input reached.
+pub fn render(data: &[u8]) -> Result<(), String> {
+    let text = String::from_utf8_lossy(data);
+    let mut desc = match parse_scene_at(&text, "fuzz.ron", empty_dir()) {
+        Ok(desc) => desc,
+        Err(error) => {
+            let message = error.to_string();
+            assert!(message.contains("fuzz.ron"), "the error does not name the file: {message}");
+            return Err(message);
+        }
+    };
+    shrink(&mut desc);
+    let mut world = spawn_world::<SoaStore>(&desc);
+    let snapshot = world.update();
+    let settings = world.render_settings();
+    let (film, stats) = penumbra::trace::render(&snapshot, &settings);
+    assert_eq!(stats.dropped.samples, 0, "non-finite samples: {:?}", stats.dropped);
+    assert!(film.pixels.iter().all(|c| c.is_finite()), "a non-finite pixel");
+    Ok(())
+}
+
+/// Makes an accepted scene cheap to render without making it easier: the size and the sample
+/// counts only go down (every rule still holds), the geometry, materials and lights stay.
+pub fn shrink(desc: &mut SceneDesc) {
+    desc.camera.width = desc.camera.width.min(8);
+    desc.camera.height = desc.camera.height.min(6);
+    desc.camera.lens.samples = desc.camera.lens.samples.min(4);
+    desc.settings.aa.samples = desc.settings.aa.samples.min(4);
+    desc.settings.glossy.samples = desc.settings.glossy.samples.min(4);
+    desc.settings.max_depth = desc.settings.max_depth.min(6);
+    if let Some(adaptive) = desc.settings.adaptive.as_mut() {
+        adaptive.max_depth = adaptive.max_depth.min(2);
+    }
+    for light in &mut desc.lights {
+        if let LightDesc::Rect { samples, .. } | LightDesc::Disk { samples, .. } = light {
+            *samples = (*samples).min(4);
         }
     }
 }
