@@ -51,7 +51,9 @@ pub enum Command {
 }
 
 /// The error and its causes on one line, `outer: cause: cause`, leaving out a cause whose text
-/// the line already holds (errors that print their source in their own message).
+/// the line already holds (errors that print their source in their own message). The last line
+/// of defence for one-line errors: control characters are escaped and a line longer than
+/// 2000 characters keeps its start and end (see [`penumbra::scene::error::one_line`]).
 pub fn error_line(error: &anyhow::Error) -> String {
     let mut line = error.to_string();
     for cause in error.chain().skip(1) {
@@ -61,7 +63,7 @@ pub fn error_line(error: &anyhow::Error) -> String {
             line.push_str(&cause);
         }
     }
-    line
+    penumbra::scene::error::one_line(&line, 2 * penumbra::scene::error::MAX_LINE_CHARS)
 }
 
 /// A bad combination or value of command-line arguments (or of a file they name) that clap

@@ -231,7 +231,7 @@ pub fn run_named(args: &RenderArgs, replay: &[String], scene_name: Option<&str>)
         }
         None => (scene::default_scene(), Inputs::builtin()),
     };
-    args.frame.apply(&mut desc);
+    args.frame.apply_checked(&mut desc, args.scene.as_deref())?;
     warn_ray_trees(&desc);
     let tone = args.frame.tone_mapping(&desc);
     let load = started.elapsed().as_secs_f64();
@@ -320,6 +320,37 @@ impl FrameArgs {
     pub fn apply(&self, desc: &mut SceneDesc) {
         apply_size(desc, self.width, self.height);
         apply_effects(desc, self);
+    }
+
+    /// [`Self::apply`], then the scene's combined rules on the result (`scene` is the file,
+    /// `None` the built-in scene): an override that makes them fail (`--samples aa=4096` on a
+    /// bright light, `--aperture 1e30`) is an error at the scene field, naming the flag.
+    pub fn apply_checked(&self, desc: &mut SceneDesc, scene: Option<&Path>) -> anyhow::Result<()> {
+        self.apply(desc);
+        let mut flags: Vec<(String, String)> = Vec::new();
+        for &(effect, n) in &self.samples {
+            let (field, name) = match effect {
+                Effect::Aa => ("settings.aa.samples", "aa"),
+                Effect::Lens => ("camera.lens.samples", "lens"),
+                Effect::Glossy => ("settings.glossy.samples", "glossy"),
+                // Area-light samples each carry 1/samples of the light: no combined rule reads them.
+                Effect::Shadow => continue,
+            };
+            flags.push((field.into(), format!("--samples {name}={n}")));
+        }
+        if let Some(r) = self.aperture {
+            let r = scene::error::number(r.into());
+            flags.push(("camera.aperture".into(), format!("--aperture {r}")));
+        }
+        if let Some((t, d)) = self.adaptive {
+            flags.push(("settings.adaptive".into(), format!("--adaptive {t}:{d}")));
+        }
+        let (text, origin) = match scene {
+            Some(path) => (std::fs::read_to_string(path).unwrap_or_default(), path.display().to_string()),
+            None => (scene::DEFAULT_SCENE_SOURCE.to_owned(), scene::DEFAULT_SCENE_ORIGIN.to_owned()),
+        };
+        scene::limits::check_overrides(desc, &text, &origin, &flags)?;
+        Ok(())
     }
 
     /// Warns on stderr (one line, after `context`) when samples were dropped as non-finite;

@@ -12,12 +12,15 @@
 //! deserialization. [`default_scene`] is the built-in `scenes/default.ron`. [`spawn_world`]
 //! turns a validated scene into a World of entities. [`obj`] imports Wavefront OBJ meshes.
 //! [`inputs`] lists and hashes the files a frame is made from (scene, script, meshes).
+//! [`limits`] checks what fields produce together (world-space sizes, the lens, summed
+//! radiance).
 //! [`ray_tree`] bounds a camera sample's ray tree and warns when the ray budget would cut it.
 //!
 //! [`validate`]: validate::validate
 pub mod error;
 pub mod format;
 pub mod inputs;
+pub mod limits;
 pub mod load;
 pub mod locate;
 pub mod mesh;

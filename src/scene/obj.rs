@@ -27,13 +27,14 @@ use std::path::{Path, PathBuf};
 
 use crate::geom::mesh::{vertex_normals, MeshData};
 use crate::math::Vec3;
+use crate::scene::error::{escaped_path, one_line, shown, MAX_LINE_CHARS};
 use crate::scene::validate::{coordinate_rule, MAX_COORDINATE};
 
 /// Why an OBJ mesh could not be loaded.
 #[derive(Debug, thiserror::Error)]
 pub enum ObjError {
     /// The file could not be read.
-    #[error("{}: cannot read mesh: {source}", path.display())]
+    #[error("{}: cannot read mesh: {source}", escaped_path(path))]
     Io {
         /// The path as given.
         path: PathBuf,
@@ -41,7 +42,7 @@ pub enum ObjError {
         source: std::io::Error,
     },
     /// The text is malformed or holds no triangles.
-    #[error("{}:{line}: {rule}", path.display())]
+    #[error("{}:{line}: {}", escaped_path(path), one_line(rule, MAX_LINE_CHARS))]
     Invalid {
         /// The path as given (for [`parse_obj`], whatever names the text).
         path: PathBuf,
@@ -266,7 +267,7 @@ fn scan(text: &str) -> Result<Scan, ScanError> {
 
 /// A number in a record of kind `record`, or the rule it breaks.
 fn number(word: &str, record: &str) -> Result<f32, String> {
-    word.parse().map_err(|_| format!("malformed number `{word}` in `{record}` record"))
+    word.parse().map_err(|_| format!("malformed number `{}` in `{record}` record", shown(word)))
 }
 
 /// Checks one face vertex `v[/vt][/vn]`; true when it names a normal.
@@ -282,11 +283,13 @@ fn face_vertex(word: &str, counts: &Counts) -> Result<bool, String> {
         let Some(part) = parts.next() else { break };
         if part.is_empty() {
             if k == 0 {
-                return Err(format!("face vertex `{word}` has no position index"));
+                return Err(format!("face vertex `{}` has no position index", shown(word)));
             }
             continue;
         }
-        let index: isize = part.parse().map_err(|_| format!("malformed face index `{part}` in `{word}`"))?;
+        let index: isize = part
+            .parse()
+            .map_err(|_| format!("malformed face index `{}` in `{}`", shown(part), shown(word)))?;
         if index == 0 {
             return Err(format!(
                 "{label} 0 is invalid: OBJ indices start at 1 (negative ones count back from the last record)"
@@ -300,7 +303,7 @@ fn face_vertex(word: &str, counts: &Counts) -> Result<bool, String> {
         named[k] = true;
     }
     if parts.any(|extra| !extra.is_empty()) {
-        return Err(format!("face vertex `{word}` has more than 3 indices (v/vt/vn)"));
+        return Err(format!("face vertex `{}` has more than 3 indices (v/vt/vn)", shown(word)));
     }
     Ok(named[2])
 }

@@ -13,6 +13,7 @@ use std::fmt;
 
 use glam::{DVec3, Vec3};
 
+use super::error::{number, shown};
 use super::format::{AdaptiveDesc, CameraDesc, LightDesc, MaterialDesc, ObjectDesc, SceneDesc};
 use super::format::{SamplingDesc, SettingsDesc, ShapeDesc, ToneMapDesc, TransformDesc};
 use super::locate::FieldPath;
@@ -40,9 +41,21 @@ pub const MAX_ADAPTIVE_DEPTH: u32 = 6;
 pub const MAX_SECONDARY_RAYS: u32 = 1 << 24;
 /// Largest accepted magnitude of any coordinate, radius or scale component. Intersection
 /// tests square distances in 32-bit floats (largest ≈ 3.4e38), so a value beyond about 1.8e19
-/// overflows; the limit leaves a margin for sums, and a scaled object (scale × coordinate
-/// ≤ 1e36) still has finite bounds.
+/// overflows; the limit leaves a margin for sums. It also bounds what fields make together:
+/// an object's world-space bounds and the lens (see [`super::limits`]).
 pub const MAX_COORDINATE: f32 = 1e18;
+
+/// Largest accepted Phong exponent. `R·V` can round to a few ulps above 1 in 32-bit floats,
+/// and `(1 + 5e-7)^1e4` is still below 1.01, so a highlight stays at most `ks`; at 1e9 the
+/// same rounding overflows to +inf.
+pub const MAX_SHININESS: f32 = 1e4;
+
+/// The rule a material's `shininess` obeys (see [`MAX_SHININESS`]).
+pub fn shininess_rule() -> String {
+    format!(
+        "must be at most {MAX_SHININESS:e} (a larger Phong exponent turns rounding into infinite highlights)"
+    )
+}
 
 /// The first rule a scene breaks: which field, and what is wrong with it.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -86,7 +99,7 @@ pub fn validate(scene: &SceneDesc) -> Check {
         if let Some(first) = names.insert(&material_desc.name, i) {
             let rule = format!(
                 "duplicate material name `{}`, already used by materials[{first}]",
-                material_desc.name
+                shown(&material_desc.name)
             );
             return fail(&path, "name", rule);
         }
@@ -105,7 +118,7 @@ pub fn validate(scene: &SceneDesc) -> Check {
                 return fail(
                     &path,
                     "name",
-                    format!("duplicate object name `{name}`, already used by objects[{first}]"),
+                    format!("duplicate object name `{}`, already used by objects[{first}]", shown(name)),
                 );
             }
         }
@@ -257,6 +270,10 @@ fn material(path: &FieldPath, material: &MaterialDesc) -> Check {
     if material.shininess < 0.0 {
         return fail(path, "shininess", format!("must be >= 0, got {}", material.shininess));
     }
+    if material.shininess > MAX_SHININESS {
+        let got = number(material.shininess.into());
+        return fail(path, "shininess", format!("{}, got {got}", shininess_rule()));
+    }
     unit_interval(path, "kr", material.kr)?;
     unit_interval(path, "kt", material.kt)?;
     // Allow for rounding in sums such as 0.08 + 0.92.
@@ -317,12 +334,19 @@ fn light(path: &FieldPath, light: &LightDesc) -> Check {
 fn object(path: &FieldPath, object: &ObjectDesc, materials: &[MaterialDesc]) -> Check {
     shape(&path.clone().field("shape"), &object.shape)?;
     if !materials.iter().any(|m| m.name == object.material) {
-        let defined: Vec<String> = materials.iter().map(|m| format!("`{}`", m.name)).collect();
+        const LISTED: usize = 24;
+        let defined: Vec<String> =
+            materials.iter().take(LISTED).map(|m| format!("`{}`", shown(&m.name))).collect();
+        let more = match materials.len().saturating_sub(LISTED) {
+            0 => String::new(),
+            n => format!(" and {n} more"),
+        };
         let defined = match defined.is_empty() {
             true => "no materials are defined".to_owned(),
-            false => format!("defined: {}", defined.join(", ")),
+            false => format!("defined: {}{more}", defined.join(", ")),
         };
-        return fail(path, "material", format!("material `{}` is not defined; {defined}", object.material));
+        let rule = format!("material `{}` is not defined; {defined}", shown(&object.material));
+        return fail(path, "material", rule);
     }
     transform(&path.clone().field("transform"), &object.transform, &object.shape)
 }

@@ -10,6 +10,7 @@ use rhai::{EvalAltResult, ParseError, ParseErrorType, Position};
 
 use super::api::properties::Properties;
 use super::engine::Limits;
+use crate::scene::error::{escaped, one_line, MAX_LINE_CHARS};
 
 /// A sandbox limit a script ran into.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -104,8 +105,10 @@ pub struct ScriptError {
 }
 
 impl fmt::Display for ScriptError {
+    /// One line: the file, message and context escaped ([`one_line`]), so that a name with a
+    /// newline or a 200 KB string a script throws cannot spread over lines or screens.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}", self.file)?;
+        write!(f, "{}", escaped(&self.file))?;
         if let Some(line) = self.line {
             write!(f, ":{line}")?;
             if let Some(column) = self.column {
@@ -120,9 +123,9 @@ impl fmt::Display for ScriptError {
             ErrorKind::Runtime => "script error".to_owned(),
             ErrorKind::MissingFunction => "missing function".to_owned(),
         };
-        write!(f, ": {what}: {}", self.message)?;
+        write!(f, ": {what}: {}", one_line(&self.message, MAX_LINE_CHARS))?;
         if let Some(context) = &self.context {
-            write!(f, " (in {context})")?;
+            write!(f, " (in {})", one_line(context, MAX_LINE_CHARS))?;
         }
         Ok(())
     }
@@ -302,6 +305,16 @@ mod tests {
             e.to_string(),
             "fly.rhai:3:7: script limit `max_operations` exceeded: more than 10 operations (in frame(0.5) at frame 12)"
         );
+    }
+
+    #[test]
+    fn messages_print_on_one_line_and_long_ones_are_cut() {
+        let e = ScriptError::new("a\nb.rhai", ErrorKind::Runtime, "no entity named `x\0y`")
+            .at(Position::new(2, 5));
+        assert_eq!(e.to_string(), "a\\nb.rhai:2:5: script error: no entity named `x\\0y`");
+        let thrown = ScriptError::new("s.rhai", ErrorKind::Runtime, "z".repeat(200_000));
+        let text = thrown.to_string();
+        assert!(text.len() < 2 * MAX_LINE_CHARS && text.contains("characters left out"), "{}", text.len());
     }
 
     #[test]

@@ -137,6 +137,10 @@ pub struct SettingsState {
     pub adaptive: Option<(f64, u32)>,
     /// Maximum reflection/refraction depth.
     pub max_depth: u32,
+    /// Colour of escaping rays (read only; for the radiance rule).
+    pub background: Vec3,
+    /// Ambient light (read only; for the radiance rule).
+    pub ambient: Vec3,
     /// Secondary rays one camera sample may trace.
     pub max_secondary_rays: u32,
     /// Seed of all randomness.
@@ -153,6 +157,8 @@ pub enum EntityKind {
         pivot: DVec3,
         /// Spheres accept only uniform scales.
         uniform_scale: bool,
+        /// Object-space bounds (`None` for a plane), for the world-space extent rule.
+        bounds: Option<(DVec3, DVec3)>,
     },
     /// A light source; directional lights have no position.
     Light {
@@ -358,6 +364,8 @@ impl ScriptState {
                 glossy_samples: s.glossy.samples,
                 adaptive: s.adaptive.map(|a| (a.threshold as f64, a.max_depth)),
                 max_depth: s.max_depth,
+                background: s.background,
+                ambient: s.ambient,
                 max_secondary_rays: s.max_secondary_rays,
                 seed: s.seed,
             },
@@ -387,15 +395,17 @@ impl ScriptState {
                 light_dirty: false,
             };
             if let (Some(shape), Some(t)) = (e.get::<Shape>(), e.get::<Transform>()) {
+                let aabb = match &shape.0 {
+                    geom::Shape::Plane { .. } => None,
+                    other => other.place(&Affine3A::IDENTITY).bounds(),
+                };
                 let pivot = match &shape.0 {
                     geom::Shape::Plane { point, .. } => point.as_dvec3(),
-                    other => other
-                        .place(&Affine3A::IDENTITY)
-                        .bounds()
-                        .map_or(DVec3::ZERO, |b| (0.5 * (b.min + b.max)).as_dvec3()),
+                    _ => aabb.map_or(DVec3::ZERO, |b| (0.5 * (b.min + b.max)).as_dvec3()),
                 };
+                let bounds = aabb.map(|b| (b.min.as_dvec3(), b.max.as_dvec3()));
                 let uniform_scale = matches!(shape.0, geom::Shape::Sphere { .. });
-                entry.kind = EntityKind::Object { pivot, uniform_scale };
+                entry.kind = EntityKind::Object { pivot, uniform_scale, bounds };
                 entry.position = t.translation.as_dvec3();
                 entry.rotation_deg = degrees_from_rotation(t.rotation);
                 entry.scale = t.scale.as_dvec3();

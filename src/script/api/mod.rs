@@ -1,8 +1,10 @@
 //! The API scripts see, registered into a sandboxed engine: vectors and animation helpers
 //! (`math`, `path`), the scene (`scene`: camera, entities, settings, the clock), sweep
-//! helpers (`sweep`) and the property names of each type (`properties`), for error messages.
+//! helpers (`sweep`) and the property names of each type (`properties`), for error messages;
+//! `limits` checks writes against the scene's combined rules.
 
 pub mod convert;
+pub mod limits;
 pub mod math;
 pub mod path;
 pub mod properties;

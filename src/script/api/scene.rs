@@ -12,7 +12,9 @@ use glam::{DVec3, Vec3};
 use rhai::{Array, Dynamic, Engine, ImmutableString, Module, FLOAT, INT};
 
 use super::convert::{error, finite, integer, vector, ScriptResult};
+use super::limits;
 use super::properties::closest;
+use crate::scene::error::shown;
 use crate::scene::format::{CameraDesc, LightDesc, MaterialDesc, SamplingDesc, SceneDesc, SettingsDesc};
 use crate::scene::validate::{
     self, coordinate_rule, MAX_ADAPTIVE_DEPTH, MAX_COORDINATE, MAX_DEPTH, MAX_IMAGE_SIZE, MAX_SAMPLES,
@@ -104,7 +106,11 @@ fn register_camera(engine: &mut Engine) {
                 let what = concat!("camera.", $name);
                 let v = coordinate_vec(vector(&v, what)?, what)?;
                 let mut s = c.0.lock();
-                s.camera.$field = v;
+                let old = std::mem::replace(&mut s.camera.$field, v);
+                if let Err(e) = limits::lens(&s) {
+                    s.camera.$field = old;
+                    return Err(e);
+                }
                 s.camera_dirty = true;
                 Ok(())
             });
@@ -128,7 +134,11 @@ fn register_camera(engine: &mut Engine) {
         let aperture = finite(&v, "camera.aperture")?;
         check_camera_field(|d| d.aperture = aperture as f32)?;
         let mut s = c.0.lock();
-        s.camera.aperture = aperture;
+        let old = std::mem::replace(&mut s.camera.aperture, aperture);
+        if let Err(e) = limits::lens(&s).and_then(|()| limits::radiance(&s, "camera.aperture")) {
+            s.camera.aperture = old;
+            return Err(e);
+        }
         s.camera_dirty = true;
         Ok(())
     });
@@ -137,7 +147,11 @@ fn register_camera(engine: &mut Engine) {
         let distance = finite(&v, "camera.focus_distance")?;
         check_camera_field(|d| d.focus_distance = Some(distance as f32))?;
         let mut s = c.0.lock();
-        s.camera.focus = FocusState::Distance(distance);
+        let old = std::mem::replace(&mut s.camera.focus, FocusState::Distance(distance));
+        if let Err(e) = limits::lens(&s) {
+            s.camera.focus = old;
+            return Err(e);
+        }
         s.camera_dirty = true;
         Ok(())
     });
@@ -214,14 +228,19 @@ fn find(state: &ScriptState, name: &str) -> ScriptResult<usize> {
     const SHOWN: usize = 24;
     let mut names: Vec<&str> = state.entities.iter().map(|e| e.name.as_str()).collect();
     names.sort_unstable();
-    let closest =
-        closest(name, names.iter().copied()).map_or(String::new(), |n| format!(" (did you mean `{n}`?)"));
+    let closest = closest(name, names.iter().copied())
+        .map_or(String::new(), |n| format!(" (did you mean `{}`?)", shown(n)));
     let more = match names.len().saturating_sub(SHOWN) {
         0 => String::new(),
         n => format!(" and {n} more"),
     };
     names.truncate(SHOWN);
-    error(format!("no entity named `{name}` in the scene{closest}; it has: {}{more}", names.join(", ")))
+    let names: Vec<String> = names.into_iter().map(shown).collect();
+    error(format!(
+        "no entity named `{}` in the scene{closest}; it has: {}{more}",
+        shown(name),
+        names.join(", ")
+    ))
 }
 
 fn register_entities(engine: &mut Engine, state: &SharedState) {
@@ -248,9 +267,8 @@ fn register_entities(engine: &mut Engine, state: &SharedState) {
                 return error(format!("entity `{}` is a directional light: it has no position", entry.name));
             }
             let what = format!("entity `{}`: position", entry.name);
-            entry.position = coordinate_vec(vector(&v, &what)?, &what)?;
-            entry.transform_dirty = true;
-            Ok(())
+            let position = coordinate_vec(vector(&v, &what)?, &what)?;
+            placed(entry, &what, |entry| entry.position = position)
         })
     });
     engine.register_get("rotation", |e: &mut EntityHandle| -> ScriptResult<DVec3> {
@@ -260,9 +278,9 @@ fn register_entities(engine: &mut Engine, state: &SharedState) {
         e.write(|entry| {
             object(entry, "rotation")?;
             let what = format!("entity `{}`: rotation", entry.name);
-            entry.rotation_deg = finite_vec(vector(&v, &what)?, &what)?;
+            let rotation = finite_vec(vector(&v, &what)?, &what)?;
+            placed(entry, &what, |entry| entry.rotation_deg = rotation)?;
             entry.rotation_written = true;
-            entry.transform_dirty = true;
             Ok(())
         })
     });
@@ -284,9 +302,7 @@ fn register_entities(engine: &mut Engine, state: &SharedState) {
             if uniform && m.max_element() - m.min_element() > 1e-5 * m.max_element() {
                 return error(format!("{what} must be uniform for a sphere (|x| = |y| = |z|), got {v}"));
             }
-            entry.scale = v;
-            entry.transform_dirty = true;
-            Ok(())
+            placed(entry, &what, |entry| entry.scale = v)
         })
     });
     engine.register_get("visible", |e: &mut EntityHandle| e.state.lock().entities[e.index].visible);
@@ -327,27 +343,13 @@ fn register_entities(engine: &mut Engine, state: &SharedState) {
         e.read(|entry| light(entry, "colour").map(|l| l.colour))
     });
     engine.register_set("colour", |e: &mut EntityHandle, v: Dynamic| -> ScriptResult<()> {
-        e.write(|entry| {
-            let terms = light(entry, "colour")?;
-            let colour = vector(&v, &format!("entity `{}`: colour", entry.name))?;
-            check_light_field(&entry.name, "colour", LightTerms { colour, ..terms })?;
-            entry.light = Some(LightTerms { colour, ..terms });
-            entry.light_dirty = true;
-            Ok(())
-        })
+        e.relight("colour", |terms, what| Ok(LightTerms { colour: vector(&v, what)?, ..terms }))
     });
     engine.register_get("intensity", |e: &mut EntityHandle| -> ScriptResult<FLOAT> {
         e.read(|entry| light(entry, "intensity").map(|l| l.intensity))
     });
     engine.register_set("intensity", |e: &mut EntityHandle, v: Dynamic| -> ScriptResult<()> {
-        e.write(|entry| {
-            let terms = light(entry, "intensity")?;
-            let intensity = finite(&v, &format!("entity `{}`: intensity", entry.name))?;
-            check_light_field(&entry.name, "intensity", LightTerms { intensity, ..terms })?;
-            entry.light = Some(LightTerms { intensity, ..terms });
-            entry.light_dirty = true;
-            Ok(())
-        })
+        e.relight("intensity", |terms, what| Ok(LightTerms { intensity: finite(&v, what)?, ..terms }))
     });
 }
 
@@ -383,6 +385,19 @@ fn check_light_field(name: &str, field: &str, terms: LightTerms) -> ScriptResult
         Ok(()) => Ok(()),
         Err(v) => error(format!("entity `{name}`: {field} {}", v.rule)),
     }
+}
+
+/// Changes an object's placement with `set`, keeping it only if the object stays within the
+/// world-space limit (see [`limits::extent`]).
+fn placed(entry: &mut EntityState, what: &str, set: impl FnOnce(&mut EntityState)) -> ScriptResult<()> {
+    let (position, rotation, scale) = (entry.position, entry.rotation_deg, entry.scale);
+    set(entry);
+    if let Err(e) = limits::extent(entry, what) {
+        (entry.position, entry.rotation_deg, entry.scale) = (position, rotation, scale);
+        return Err(e);
+    }
+    entry.transform_dirty = true;
+    Ok(())
 }
 
 /// Objects only: errors for lights; says whether the object takes only uniform scales.
@@ -426,6 +441,28 @@ impl EntityHandle {
         f(&mut self.state.lock().entities[self.index])
     }
 
+    /// Sets a light's colour or intensity (`field`) to what `next` makes of the current terms,
+    /// after checking the light's own rules and the scene's radiance rule.
+    fn relight(
+        &self,
+        field: &str,
+        next: impl FnOnce(LightTerms, &str) -> ScriptResult<LightTerms>,
+    ) -> ScriptResult<()> {
+        let mut state = self.state.lock();
+        let entry = &mut state.entities[self.index];
+        let what = format!("entity `{}`: {field}", entry.name);
+        let old = light(entry, field)?;
+        let terms = next(old, &what)?;
+        check_light_field(&entry.name, field, terms)?;
+        entry.light = Some(terms);
+        if let Err(e) = limits::radiance(&state, &what) {
+            state.entities[self.index].light = Some(old);
+            return Err(e);
+        }
+        state.entities[self.index].light_dirty = true;
+        Ok(())
+    }
+
     /// Sets one material field after checking it against the scene format's rule for it.
     fn write_material(
         &self,
@@ -463,7 +500,11 @@ fn register_settings(engine: &mut Engine) {
                     return error(format!("{what} must be in {}..={}, got {n}", $lo, $hi));
                 }
                 let mut s = h.0.lock();
-                s.settings.$field = n as _;
+                let old = std::mem::replace(&mut s.settings.$field, n as _);
+                if let Err(e) = limits::radiance(&s, what) {
+                    s.settings.$field = old;
+                    return Err(e);
+                }
                 s.settings_dirty = true;
                 Ok(())
             });
@@ -484,6 +525,7 @@ fn register_settings(engine: &mut Engine) {
     });
     engine.register_set("adaptive", |h: &mut SettingsHandle, v: Dynamic| -> ScriptResult<()> {
         let mut s = h.0.lock();
+        let old = s.settings.adaptive;
         s.settings.adaptive = match v.is_unit() {
             true => None,
             false => {
@@ -495,6 +537,10 @@ fn register_settings(engine: &mut Engine) {
                 Some((threshold, depth))
             }
         };
+        if let Err(e) = limits::radiance(&s, "settings.adaptive") {
+            s.settings.adaptive = old;
+            return Err(e);
+        }
         s.settings_dirty = true;
         Ok(())
     });
