@@ -256,6 +256,25 @@ fn rows() -> Vec<Row> {
             "-1",
             &["lights[0].intensity", "must be >= 0"],
         ),
+        // Scene: what fields produce together (src/scene/limits.rs).
+        scene_row(
+            "object beyond 1e18 in world space",
+            scene("radius: 0.5), material: \"m\")", "radius: 1e17), material: \"m\", transform: (scale: (1e3, 1e3, 1e3)))"),
+            "(1e3, 1e3, 1e3)",
+            &["objects[0].transform.scale", "world-space bounds", "within ±1e18"],
+        ),
+        scene_row(
+            "light overflows the film",
+            scene("colour: (1, 1, 1), intensity: 0.9", "colour: (10, 1, 1), intensity: 3e38"),
+            "3e38",
+            &["lights[0].intensity", "colour × intensity = 10 × 3e38", "must stay ≤ 1e29"],
+        ),
+        scene_row(
+            "shininess beyond 1e4",
+            scene("kd: (0.7, 0.6, 0.5)", "kd: (0.7, 0.6, 0.5), ks: 0.5, shininess: 1e9"),
+            "1e9",
+            &["materials[0].shininess", "must be at most 1e4"],
+        ),
         // Meshes: reported at the scene's `file` field, with the OBJ file's own line.
         mesh_row(
             "missing OBJ file",
@@ -319,6 +338,12 @@ fn rows() -> Vec<Row> {
             &["entity `ball`: position", "must be finite in every component (as a 32-bit float)"],
         ),
         script_row(
+            "script light overflows the film",
+            "fn frame(t) {\n    let key = entity(\"light_0\");\n    key.intensity = 3e38;\n}\n",
+            "intensity =",
+            &["entity `light_0`: intensity", "must stay ≤ 1e29"],
+        ),
+        script_row(
             "script operation limit",
             "fn frame(t) {\n    loop { }\n}\n",
             "loop",
@@ -348,6 +373,11 @@ fn rows() -> Vec<Row> {
         flag_row("--adaptive -0.5", &["--adaptive", "-0.5"], &["--adaptive", "threshold ≥ 0"]),
         flag_row("--adaptive depth 9", &["--adaptive", "0.1:9"], &["--adaptive", "depth in 1..=6"]),
         flag_row("--aperture -1", &["--aperture", "-1"], &["--aperture", "aperture must be a finite number ≥ 0"]),
+        flag_row("--aperture 1e30", &["--aperture", "1e30"], &["camera.aperture", "the lens must lie within ±1e18", "`--aperture 1e30`"]),
+        row("--samples aa=4096 on a bright light", 2, &with(RENDER, &["--samples", "aa=4096"]))
+            .file("s.ron", scene("intensity: 0.9", "intensity: 1e26"))
+            .at(At::Col("s.ron", "1e26"))
+            .says(&["lights[0].intensity", "must stay ≤ 1e29", "`--samples aa=4096`"]),
         flag_row("--format bad", &["--format", "bad"], &["--format", "unknown output format `bad`"]),
         flag_row("--aov bogus", &["--aov", "bogus"], &["--aov", "bogus"]),
         flag_row("--tonemap bad", &["--tonemap", "bad"], &["--tonemap", "unknown tone operator `bad`"]),
