@@ -76,7 +76,11 @@ fn render_seeds_regressions_and_nasty_inputs_give_finite_films() {
         match fuzz_entries::render(&bytes) {
             Ok(()) => rendered += 1,
             Err(message) => {
-                assert!(!path.starts_with(&shipped) || message.contains(".obj"), "{}: {message}", path.display())
+                assert!(
+                    !path.starts_with(&shipped) || message.contains(".obj"),
+                    "{}: {message}",
+                    path.display()
+                )
             }
         }
     }

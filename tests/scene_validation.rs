@@ -819,6 +819,13 @@ fn every_shipped_scene_loads() {
     for entry in std::fs::read_dir(&dir).expect("scenes/ exists") {
         let path = entry.expect("readable entry").path();
         if path.extension().is_some_and(|ext| ext == "ron") {
+            // ANCHORS.md's mesh scenes read the full models from ../shared/models/, which a
+            // checkout need not have: those are checked only where the models are.
+            let text = std::fs::read_to_string(&path).expect("readable scene");
+            if text.contains("shared/models/") && !dir.join("../../shared/models").is_dir() {
+                eprintln!("skipped {}: ../shared/models/ is not beside this checkout", path.display());
+                continue;
+            }
             load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
             names.push(path.file_name().expect("file name").to_string_lossy().into_owned());
         }

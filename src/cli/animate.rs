@@ -112,6 +112,7 @@ pub fn run_named(args: &AnimateArgs, argv: &[String], names: Option<(&str, &str)
     args.frame.apply_checked(&mut desc, Some(&args.scene))?;
     warn_ray_trees(&desc);
     let format = args.frame.format.unwrap_or(OutputFormat::Png8);
+    args.frame.check_memory(&desc, format)?;
     let tone = args.frame.tone_mapping(&desc);
 
     let shard = match args.shard {

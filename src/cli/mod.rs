@@ -2,6 +2,7 @@
 //! module; everything it calls is the library's public API.
 
 pub mod animate;
+pub mod estimate;
 pub mod info;
 pub mod interrupt;
 pub mod meta;

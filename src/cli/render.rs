@@ -21,6 +21,7 @@ use penumbra::store::{AosStore, PrimitiveStore, SoaStore};
 use penumbra::trace::{render_observed, RenderSettings, RenderStats};
 use penumbra::world::SceneWorld;
 
+use super::estimate::{self, MemoryEstimate};
 use super::{bad_input, meta};
 
 #[derive(Args, Debug, Default)]
@@ -88,6 +89,10 @@ pub struct FrameArgs {
     /// Lens radius (0 = pinhole).
     #[arg(long, value_name = "R", allow_negative_numbers = true, value_parser = parse_aperture)]
     aperture: Option<f32>,
+    /// Refuse a render whose estimated memory exceeds this (e.g. `8G`, `512M`; default: the
+    /// memory the machine has available).
+    #[arg(long, value_name = "SIZE", value_parser = estimate::parse_size)]
+    max_memory: Option<u64>,
     /// Output encoding (default: from the extension): png8, png16, exr-half, exr-float.
     #[arg(long, value_name = "FORMAT")]
     pub format: Option<OutputFormat>,
@@ -234,11 +239,13 @@ pub fn run_named(args: &RenderArgs, replay: &[String], scene_name: Option<&str>)
     args.frame.apply_checked(&mut desc, args.scene.as_deref())?;
     warn_ray_trees(&desc);
     let tone = args.frame.tone_mapping(&desc);
+    let wanted = args.frame.aov.unwrap_or_default();
+    let memory = args.frame.check_memory(&desc, format)?;
     let load = started.elapsed().as_secs_f64();
 
     let pool = args.frame.thread_pool()?;
-    let wanted = args.frame.aov.unwrap_or_default();
     let bar = tile_bar(args.quiet);
+    bar.set_message(estimate::work(&desc));
     let on_tile = |done: u32, total: u32| {
         bar.set_length(u64::from(total));
         bar.set_position(u64::from(done));
@@ -256,7 +263,14 @@ pub fn run_named(args: &RenderArgs, replay: &[String], scene_name: Option<&str>)
     let started = Instant::now();
     let written = write_image(&film, aovs.as_ref(), &args.output, format, &tone, &metadata)?;
     stats.times.write = started.elapsed().as_secs_f64();
-    report(&stats, &written, aovs.as_ref().map(|a| a.object_names.as_slice()), args.stats.as_deref())
+    let memory = Memory { estimate: memory, peak_rss: estimate::peak_rss() };
+    report(&stats, &written, aovs.as_ref().map(|a| a.object_names.as_slice()), &memory, args.stats.as_deref())
+}
+
+/// The memory a render was estimated to need, and what it took.
+struct Memory {
+    estimate: MemoryEstimate,
+    peak_rss: Option<u64>,
 }
 
 /// `path` made absolute without resolving links (kept as given if that fails).
@@ -271,10 +285,11 @@ pub fn tile_bar(quiet: bool) -> ProgressBar {
         true => ProgressDrawTarget::hidden(),
         false => ProgressDrawTarget::stderr(),
     };
-    let style =
-        ProgressStyle::with_template("render [{bar:30}] {pos}/{len} tiles, {elapsed} elapsed, eta {eta}")
-            .expect("a valid template")
-            .progress_chars("=> ");
+    let style = ProgressStyle::with_template(
+        "render [{bar:30}] {pos}/{len} tiles, {elapsed} elapsed, eta {eta} ({msg})",
+    )
+    .expect("a valid template")
+    .progress_chars("=> ");
     ProgressBar::with_draw_target(None, target).with_style(style)
 }
 
@@ -399,9 +414,18 @@ impl FrameArgs {
         }
     }
 
-    /// Every option that changes the pixels, as text (the thread count and `--strict` never do).
+    /// Every option that changes the pixels, as text (the thread count, the memory limit and
+    /// `--strict` never do).
     pub fn fingerprint(&self) -> String {
-        format!("{:?}", FrameArgs { threads: None, strict: false, ..self.clone() })
+        format!("{:?}", FrameArgs { threads: None, max_memory: None, strict: false, ..self.clone() })
+    }
+
+    /// Refuses a frame of `desc` (sizes and overrides applied) that needs more memory than
+    /// `--max-memory` or the machine has; the estimate otherwise.
+    pub fn check_memory(&self, desc: &SceneDesc, format: OutputFormat) -> anyhow::Result<MemoryEstimate> {
+        let estimate = MemoryEstimate::of(desc, self.aov.unwrap_or_default(), format);
+        estimate::check_memory(&estimate, self.max_memory)?;
+        Ok(estimate)
     }
 
     /// A rayon pool of `--threads` workers (default: one per core).
@@ -466,6 +490,7 @@ fn report(
     stats: &RenderStats,
     written: &[PathBuf],
     legend: Option<&[String]>,
+    memory: &Memory,
     stats_path: Option<&Path>,
 ) -> anyhow::Result<()> {
     let output = written.first().map_or_else(String::new, |p| p.display().to_string());
@@ -482,9 +507,22 @@ fn report(
                     .collect();
                 map.insert("object_ids".into(), ids.into());
             }
+            if let Some(map) = json.as_object_mut() {
+                let value = serde_json::json!({
+                    "estimated_bytes": memory.estimate.peak(),
+                    "peak_rss_bytes": memory.peak_rss,
+                });
+                map.insert("memory".into(), value);
+            }
             let bytes = serde_json::to_vec_pretty(&json).context("cannot encode statistics")?;
             write_atomically(path, &bytes)?;
-            format!("wrote {output}\n{}\nstats      {}", stats.summary(), path.display())
+            let peak = memory.peak_rss.map_or_else(|| "unknown".into(), estimate::size);
+            format!(
+                "wrote {output}\n{}\nmemory     estimated {}, peak resident {peak}\nstats      {}",
+                stats.summary(),
+                estimate::size(memory.estimate.peak()),
+                path.display()
+            )
         }
         None => format!(
             "wrote {output} ({}x{}, {} rays in {:.3} s, {:.2} Mrays/s)",

@@ -51,6 +51,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
     args.frame.apply_checked(&mut desc, Some(&args.scene))?;
     warn_ray_trees(&desc);
     let format = args.frame.format.unwrap_or(OutputFormat::Png8);
+    args.frame.check_memory(&desc, format)?;
     let extension = match format {
         OutputFormat::Png8 | OutputFormat::Png16 => "png",
         OutputFormat::ExrHalf | OutputFormat::ExrFloat => "exr",

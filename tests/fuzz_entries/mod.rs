@@ -11,9 +11,9 @@ use std::time::Duration;
 
 use penumbra::accel::MESH_LAMBDA;
 use penumbra::scene::obj::parse_obj;
+use penumbra::scene::LightDesc;
 use penumbra::scene::{parse_scene_at, spawn_world, SceneDesc};
 use penumbra::script::{Animation, Limits, Script};
-use penumbra::scene::LightDesc;
 use penumbra::store::{MeshAsset, SoaStore};
 use penumbra::world::components::WorldAabb;
 
