@@ -131,9 +131,9 @@ fn info_refuses_to_rerender_a_changed_scene() {
         .current_dir(dir.path())
         .output()
         .unwrap();
-    assert!(!out.status.success());
+    assert_eq!(out.status.code(), Some(2), "a changed input is bad input");
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("scene changed"), "{err}");
+    assert!(err.contains("the scene `scene.ron` changed since"), "{err}");
     assert!(!dir.path().join("b.png").exists());
 }
 
