@@ -406,6 +406,11 @@ fn rows() -> Vec<Row> {
             .file("w.ron", "Sweep(\n    axes: [Zoom(samples: [4])],\n)\n")
             .at(At::Col("w.ron", "Zoom"))
             .says(&["axes[0]", "Zoom"]),
+        // The reference takes the most samples of every effect: it breaks the rule first.
+        row("report sweep point overflows a bright light", 2, &with(REPORT, &["--sweep", "{dir}/w.ron"]))
+            .file("s.ron", scene("intensity: 0.9", "intensity: 1e27"))
+            .file("w.ron", "Sweep(\n    axes: [Aa(samples: [1, 64])],\n)\n")
+            .says(&["sweep point `reference`", "lights[0].intensity", "settings.aa.samples 64", "must stay ≤ 1e29"]),
         row("report sweep file missing", 2, &with(REPORT, &["--sweep", "{dir}/w.ron"]))
             .valid_inputs()
             .says(&["{dir}/w.ron", "cannot read sweep"]),

@@ -97,7 +97,10 @@ pub fn exit_code(error: &anyhow::Error) -> ExitCode {
             || e.is::<SweepError>()
             || e.is::<BadInput>()
             || matches!(e.downcast_ref::<OutputError>(), Some(OutputError::Read { .. }))
-            || matches!(e.downcast_ref::<ReportError>(), Some(ReportError::ReferenceSize { .. }))
+            || matches!(
+                e.downcast_ref::<ReportError>(),
+                Some(ReportError::ReferenceSize { .. } | ReportError::Point { .. })
+            )
             || matches!(e.downcast_ref::<ManifestError>(), Some(ManifestError::NoFolder { .. }))
     });
     ExitCode::from(if bad_input { 2 } else { 1 })

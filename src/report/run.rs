@@ -42,6 +42,15 @@ pub enum ReportError {
         /// Why, and what to use instead.
         message: String,
     },
+    /// A configuration the sweep asks for breaks a rule on what fields produce together (e.g. a
+    /// sample count that makes a bright light's pixel sum overflow).
+    #[error("sweep point `{label}`: {violation}")]
+    Point {
+        /// The configuration's label, e.g. `aa 4096`.
+        label: String,
+        /// The rule it breaks, at the scene field.
+        violation: crate::scene::validate::Violation,
+    },
     /// An image could not be encoded.
     #[error("{path}: cannot encode: {message}")]
     Encode {
@@ -209,6 +218,12 @@ pub fn run(
 ) -> Result<Report, ReportError> {
     let effects = effects_of(desc);
     let (width, height) = (desc.camera.width, desc.camera.height);
+    // Every configuration obeys the scene's combined rules before anything renders.
+    let reference_scene = ("reference".to_owned(), sweep.reference.apply(desc));
+    for (label, scene) in std::iter::once(&reference_scene).chain(&plan(desc, sweep).configs) {
+        crate::scene::limits::check(scene)
+            .map_err(|violation| ReportError::Point { label: label.clone(), violation })?;
+    }
     let reference = match &options.reference {
         Some((film, file)) => {
             if (film.width, film.height) != (width, height) {
