@@ -2,9 +2,13 @@
 //! (exit 2, with the estimate), the estimate tracks the memory a render really takes, and the
 //! work a frame asks for is shown with the progress bar.
 
+mod common;
+
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+use common::wait_at_most;
 
 const BIN: &str = env!("CARGO_BIN_EXE_penumbra");
 
@@ -19,22 +23,14 @@ fn text(out: &Output) -> String {
 /// Runs `args`, killing it and failing if it takes longer than `limit` (a refusal that came
 /// after the work would take hours).
 fn refused_at_once(dir: &Path, args: &[&str], limit: Duration) -> Output {
-    let mut child = Command::new(BIN)
+    let child = Command::new(BIN)
         .args(args)
         .current_dir(dir)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    let started = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if started.elapsed() > limit {
-            child.kill().unwrap();
-            panic!("{args:?} still running after {limit:?}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    child.wait_with_output().unwrap()
+    wait_at_most(child, limit)
 }
 
 const HUGE: [&str; 10] = [

@@ -3,9 +3,13 @@
 //! re-rendering from any folder and from moved files, outputs checked before any work, stray
 //! temporaries cleared, concurrent runs on one folder, and progress only on a terminal.
 
+mod common;
+
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+use common::wait_at_most;
 
 const BIN: &str = env!("CARGO_BIN_EXE_penumbra");
 
@@ -156,19 +160,6 @@ fn info_rerenders_from_any_folder_and_from_moved_inputs() {
         run(&elsewhere, &["info", "../moved/out.png", "--rerender", "y.png", "--scene", "../moved/s.ron"]);
     assert_eq!(out.status.code(), Some(2), "{}", text(&out));
     assert!(text(&out).contains("the mesh `m.obj` is missing"), "{}", text(&out));
-}
-
-/// Waits for `child` at most `limit`; kills it and fails past that.
-fn wait_at_most(mut child: std::process::Child, limit: Duration) -> Output {
-    let started = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if started.elapsed() > limit {
-            child.kill().unwrap();
-            panic!("still running after {limit:?}: the check came after the work");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    child.wait_with_output().unwrap()
 }
 
 #[test]

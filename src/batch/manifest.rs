@@ -450,6 +450,24 @@ mod tests {
         }
     }
 
+    /// A finished frame `n` of `job` with inputs hash `inputs`, made from `files`.
+    fn entry(job: &JobSpec, n: u32, inputs: String, files: Vec<InputFile>) -> FrameEntry {
+        FrameEntry {
+            frame: n,
+            file: job.file_name(n),
+            inputs,
+            seed: 1,
+            settings: String::new(),
+            render_seconds: 0.1,
+            total_seconds: 0.2,
+            rays: BTreeMap::new(),
+            mrays_per_s: 1.0,
+            host: "h".into(),
+            shard: "0/1".into(),
+            files,
+        }
+    }
+
     fn inputs(scene: &[u8], script: &[u8], meshes: &[&[u8]]) -> Inputs {
         let file = |role, name: &str, bytes: &[u8]| InputFile {
             role,
@@ -487,20 +505,7 @@ mod tests {
         let m = Manifest::create(dir).unwrap();
         let j = job(dir);
         m.write_job(&j).unwrap();
-        let entry = |n: u32, inputs: String| FrameEntry {
-            frame: n,
-            file: j.file_name(n),
-            inputs,
-            seed: 1,
-            settings: String::new(),
-            render_seconds: 0.1,
-            total_seconds: 0.2,
-            rays: BTreeMap::new(),
-            mrays_per_s: 1.0,
-            host: "h".into(),
-            shard: "0/1".into(),
-            files: Vec::new(),
-        };
+        let entry = |n: u32, inputs: String| entry(&j, n, inputs, Vec::new());
         for n in [0, 1, 2] {
             std::fs::write(dir.join(j.file_name(n)), "png").unwrap();
         }
@@ -533,21 +538,7 @@ mod tests {
         m.write_job(&j).unwrap();
         for n in 0..4 {
             std::fs::write(dir.join(j.file_name(n)), "png").unwrap();
-            let entry = FrameEntry {
-                frame: n,
-                file: j.file_name(n),
-                inputs: j.inputs_hash(&recorded, n),
-                seed: 1,
-                settings: String::new(),
-                render_seconds: 0.1,
-                total_seconds: 0.2,
-                rays: BTreeMap::new(),
-                mrays_per_s: 1.0,
-                host: "h".into(),
-                shard: "0/1".into(),
-                files: recorded.files.clone(),
-            };
-            m.write_entry(&entry).unwrap();
+            m.write_entry(&entry(&j, n, j.inputs_hash(&recorded, n), recorded.files.clone())).unwrap();
         }
         assert_eq!(status(dir).unwrap().done, vec![0, 1, 2, 3]);
         std::fs::write(dir.join("b.obj"), "b, stretched").unwrap();

@@ -321,3 +321,18 @@ pub mod strategies {
         )
     }
 }
+
+/// Waits for `child` at most `limit`, then returns its output; kills it and fails past that (a
+/// refusal that came after the work would run for minutes).
+#[allow(dead_code)]
+pub fn wait_at_most(mut child: std::process::Child, limit: std::time::Duration) -> std::process::Output {
+    let started = std::time::Instant::now();
+    while child.try_wait().expect("the child can be polled").is_none() {
+        if started.elapsed() > limit {
+            child.kill().expect("the child can be killed");
+            panic!("still running after {limit:?}: the check came after the work");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.wait_with_output().expect("the child's output")
+}
