@@ -144,18 +144,13 @@ fn max_memory_takes_sizes_with_units_and_lets_a_fitting_render_through() {
 
 #[test]
 fn the_progress_bar_shows_the_work_a_frame_asks_for() {
-    let Some(script) = ["/usr/bin/script", "/bin/script"].into_iter().find(|p| Path::new(p).exists()) else {
+    let tmp = tempfile::tempdir().unwrap();
+    let Some(shown) =
+        common::on_a_terminal(tmp.path(), &format!("{BIN} render --width 400 --samples aa=4 -o a.png"))
+    else {
         eprintln!("skipped: util-linux `script` is not installed");
         return;
     };
-    let tmp = tempfile::tempdir().unwrap();
-    let out = Command::new(script)
-        .args(["-qec", &format!("{BIN} render --width 400 --samples aa=4 -o a.png"), "/dev/null"])
-        .current_dir(tmp.path())
-        .env("TERM", "xterm")
-        .stdin(Stdio::null())
-        .output()
-        .unwrap();
     // 400 × 300 pixels × 4 samples.
-    assert!(text(&out).contains("480000 camera samples"), "{}", text(&out));
+    assert!(shown.contains("480000 camera samples"), "{shown}");
 }

@@ -266,19 +266,9 @@ fn two_concurrent_animate_runs_on_one_folder_render_each_frame_once() {
     }
 }
 
-/// Runs `args` under a pseudo-terminal (util-linux `script`), returning what the terminal
-/// showed; `None` where `script` is not installed.
+/// `penumbra ARGS` under a pseudo-terminal: what the terminal showed (`None` without `script`).
 fn on_a_terminal(dir: &Path, args: &str) -> Option<String> {
-    let script = ["/usr/bin/script", "/bin/script"].into_iter().find(|p| Path::new(p).exists())?;
-    let out = Command::new(script)
-        .args(["-qec", &format!("{BIN} {args}"), "/dev/null"])
-        .current_dir(dir)
-        .env("TERM", "xterm")
-        .stdin(Stdio::null())
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", text(&out));
-    Some(text(&out))
+    common::on_a_terminal(dir, &format!("{BIN} {args}"))
 }
 
 #[test]

@@ -109,7 +109,7 @@ pub fn run_named(args: &AnimateArgs, argv: &[String], names: Option<(&str, &str)
     let inputs = Inputs::of_scene(&scene_name, &absolute(&args.scene), &scene_source, &desc)
         .map_err(|e| bad_input(e.to_string()))?
         .with_script(&script_name, &absolute(&args.script), script.source().as_bytes());
-    args.frame.apply_checked(&mut desc, Some(&args.scene))?;
+    args.frame.apply_checked(&mut desc, &scene_source, &args.scene.display().to_string())?;
     warn_ray_trees(&desc);
     let format = args.frame.format.unwrap_or(OutputFormat::Png8);
     args.frame.check_memory(&desc, format)?;

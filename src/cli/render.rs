@@ -223,7 +223,7 @@ pub fn run_named(args: &RenderArgs, replay: &[String], scene_name: Option<&str>)
     if let Some(stats) = &args.stats {
         prepare_output(stats)?;
     }
-    let (mut desc, inputs) = match &args.scene {
+    let (mut desc, inputs, source, origin) = match &args.scene {
         Some(path) => {
             let desc = scene::load_scene(path)?;
             // Read again for the hash: `load_scene` validated exactly these bytes or failed.
@@ -232,11 +232,16 @@ pub fn run_named(args: &RenderArgs, replay: &[String], scene_name: Option<&str>)
             let name = scene_name.map_or_else(|| path.display().to_string(), str::to_owned);
             let inputs = Inputs::of_scene(&name, &absolute(path), &bytes, &desc)
                 .map_err(|e| bad_input(e.to_string()))?;
-            (desc, inputs)
+            (desc, inputs, bytes, path.display().to_string())
         }
-        None => (scene::default_scene(), Inputs::builtin()),
+        None => (
+            scene::default_scene(),
+            Inputs::builtin(),
+            scene::DEFAULT_SCENE_SOURCE.as_bytes().to_vec(),
+            scene::DEFAULT_SCENE_ORIGIN.to_owned(),
+        ),
     };
-    args.frame.apply_checked(&mut desc, args.scene.as_deref())?;
+    args.frame.apply_checked(&mut desc, &source, &origin)?;
     warn_ray_trees(&desc);
     let tone = args.frame.tone_mapping(&desc);
     let wanted = args.frame.aov.unwrap_or_default();
@@ -337,10 +342,11 @@ impl FrameArgs {
         apply_effects(desc, self);
     }
 
-    /// [`Self::apply`], then the scene's combined rules on the result (`scene` is the file,
-    /// `None` the built-in scene): an override that makes them fail (`--samples aa=4096` on a
-    /// bright light, `--aperture 1e30`) is an error at the scene field, naming the flag.
-    pub fn apply_checked(&self, desc: &mut SceneDesc, scene: Option<&Path>) -> anyhow::Result<()> {
+    /// [`Self::apply`], then the scene's combined rules on the result (`source` is the scene's
+    /// text as loaded, named `origin` in errors): an override that makes them fail (`--samples
+    /// aa=4096` on a bright light, `--aperture 1e30`) is an error at the scene field, naming the
+    /// flag.
+    pub fn apply_checked(&self, desc: &mut SceneDesc, source: &[u8], origin: &str) -> anyhow::Result<()> {
         self.apply(desc);
         let mut flags: Vec<(String, String)> = Vec::new();
         for &(effect, n) in &self.samples {
@@ -360,11 +366,8 @@ impl FrameArgs {
         if let Some((t, d)) = self.adaptive {
             flags.push(("settings.adaptive".into(), format!("--adaptive {t}:{d}")));
         }
-        let (text, origin) = match scene {
-            Some(path) => (std::fs::read_to_string(path).unwrap_or_default(), path.display().to_string()),
-            None => (scene::DEFAULT_SCENE_SOURCE.to_owned(), scene::DEFAULT_SCENE_ORIGIN.to_owned()),
-        };
-        scene::limits::check_overrides(desc, &text, &origin, &flags)?;
+        let text = String::from_utf8_lossy(source);
+        scene::limits::check_overrides(desc, &text, origin, &flags)?;
         Ok(())
     }
 

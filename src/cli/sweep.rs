@@ -48,7 +48,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
     let inputs = Inputs::of_scene(&origin, &absolute(&args.scene), &scene_source, &desc)
         .map_err(|e| bad_input(e.to_string()))?
         .with_script(&args.script.display().to_string(), &absolute(&args.script), script.source().as_bytes());
-    args.frame.apply_checked(&mut desc, Some(&args.scene))?;
+    args.frame.apply_checked(&mut desc, &scene_source, &origin)?;
     warn_ray_trees(&desc);
     let format = args.frame.format.unwrap_or(OutputFormat::Png8);
     args.frame.check_memory(&desc, format)?;

@@ -250,12 +250,16 @@ mod tests {
         (scene.clone(), crate::scene::load_scene(&scene).unwrap())
     }
 
+    /// The inputs of `desc`, loaded from `scene` as `s.ron`.
+    fn inputs_of(scene: &Path, desc: &SceneDesc) -> Inputs {
+        Inputs::of_scene("s.ron", scene, &std::fs::read(scene).unwrap(), desc).unwrap()
+    }
+
     #[test]
     fn a_scene_lists_itself_and_each_mesh_file_once_in_order() {
         let tmp = tempfile::tempdir().unwrap();
         let (scene, desc) = scene_with_meshes(tmp.path());
-        let source = std::fs::read(&scene).unwrap();
-        let inputs = Inputs::of_scene("s.ron", &scene, &source, &desc).unwrap();
+        let inputs = inputs_of(&scene, &desc);
         let names: Vec<_> = inputs.files.iter().map(|f| (f.role, f.name.as_str())).collect();
         assert_eq!(
             names,
@@ -272,15 +276,14 @@ mod tests {
     fn the_fingerprint_follows_every_file_s_contents_but_not_its_place() {
         let tmp = tempfile::tempdir().unwrap();
         let (scene, desc) = scene_with_meshes(tmp.path());
-        let source = std::fs::read(&scene).unwrap();
-        let before = Inputs::of_scene("s.ron", &scene, &source, &desc).unwrap();
+        let before = inputs_of(&scene, &desc);
         let mut moved = before.clone();
         moved.files[1].path = Some(PathBuf::from("/elsewhere/a.obj"));
         moved.files[1].name = "elsewhere.obj".into();
         assert_eq!(moved.fingerprint(), before.fingerprint());
 
         write(&tmp.path().join("sub"), "b.obj", "v 0 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\n");
-        let after = Inputs::of_scene("s.ron", &scene, &source, &desc).unwrap();
+        let after = inputs_of(&scene, &desc);
         assert_ne!(after.fingerprint(), before.fingerprint());
         assert_eq!(check(&before.files[1], tmp.path().join("a.obj").as_ref()), InputCheck::Unchanged);
         assert!(matches!(

@@ -336,3 +336,21 @@ pub fn wait_at_most(mut child: std::process::Child, limit: std::time::Duration) 
     }
     child.wait_with_output().expect("the child's output")
 }
+
+/// Runs `command` (a shell command line) under a pseudo-terminal (util-linux `script`) in
+/// `dir` and returns what the terminal showed; `None` where `script` is not installed. Fails if
+/// the command fails.
+#[allow(dead_code)]
+pub fn on_a_terminal(dir: &std::path::Path, command: &str) -> Option<String> {
+    let script = ["/usr/bin/script", "/bin/script"].into_iter().find(|p| std::path::Path::new(p).exists())?;
+    let out = std::process::Command::new(script)
+        .args(["-qec", command, "/dev/null"])
+        .current_dir(dir)
+        .env("TERM", "xterm")
+        .stdin(std::process::Stdio::null())
+        .output()
+        .expect("script runs");
+    let shown = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "{shown}");
+    Some(shown)
+}
