@@ -23,7 +23,7 @@ use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, Throughput};
 use penumbra::camera::Camera;
-use penumbra::math::{offset_distance, Ray, Vec3};
+use penumbra::math::{Ray, Vec3, SHADOW_EPSILON};
 use penumbra::store::{PlacedObject, PrimitiveStore};
 use penumbra::trace::{closest_hit, closest_hit_brute, Light, Material, SceneTables, TraceScene};
 
@@ -80,12 +80,11 @@ fn trace(scene: &TraceScene, stride: u32, hit: Intersect) -> (u64, u32) {
         };
         let sp = scene.store.surface(&h, &ray);
         let n = if sp.normal.dot(ray.dir) < 0.0 { sp.normal } else { -sp.normal };
-        let eps = offset_distance(sp.point, scene.offset_floor);
         let to = LIGHT - sp.point;
         let dist = to.length();
-        let shadow = Ray::new(sp.point + n * eps, to / dist);
+        let shadow = Ray::new(sp.spawn(n), to / dist);
         rays += 1;
-        lit += hit(scene, black_box(&shadow), 0.0, dist - eps).is_none() as u32;
+        lit += hit(scene, black_box(&shadow), 0.0, dist * (1.0 - SHADOW_EPSILON)).is_none() as u32;
     }
     (rays, black_box(lit))
 }

@@ -123,17 +123,58 @@ impl Aabb {
     }
 }
 
-/// Relative size of the offset that lifts a secondary ray's origin off a surface.
-///
-/// f32 intersection points carry an error proportional to their magnitude (a few ulps of the
-/// largest coordinate); 2^-13 of it clears that with a wide margin while staying invisible.
-pub const OFFSET_RELATIVE: f32 = 1.0 / 8192.0;
+/// Unit roundoff of f32: half the spacing of floats at 1.
+pub const UNIT_ROUNDOFF: f32 = f32::EPSILON * 0.5;
 
-/// Distance to lift a ray origin off the surface at `p`: proportional to the magnitude of `p`,
-/// floored by `scale_floor` (a tiny fraction of the scene's size) for points near the origin.
+/// Higham's `γ(n) = n·u / (1 − n·u)`: a bound on the relative error of `n` chained f32
+/// operations (pbrt-v4's `gamma`). Error bounds on hit points are built from it.
 #[inline]
-pub fn offset_distance(p: Vec3, scale_floor: f32) -> f32 {
-    p.abs().max_element().max(scale_floor) * OFFSET_RELATIVE
+pub const fn gamma(n: u32) -> f32 {
+    let nu = n as f32 * UNIT_ROUNDOFF;
+    nu / (1.0 - nu)
+}
+
+/// How far a shadow ray stops short of its light, as a fraction of its length: geometry that the
+/// light lies on (a lamp's own shade, a ceiling an area light is set into) does not shadow it.
+pub const SHADOW_EPSILON: f32 = 1.0 / 8192.0;
+
+/// The origin of a ray leaving the surface point `p` on the side of unit normal `n` that `dir`
+/// points into (pbrt-v4's `OffsetRayOrigin`).
+///
+/// `error` is a conservative bound on the distance between `p` and the true surface along `n`
+/// (each shape computes its own, see [`crate::store::SurfacePoint::error`]). The point moves
+/// that far along `n`, then each coordinate is rounded one float further away from the surface,
+/// so that the rounding of the addition cannot bring it back. The offset depends on the
+/// arithmetic that produced `p`, not on how far `p` lies from the world origin.
+#[inline]
+pub fn offset_origin(p: Vec3, error: f32, n: Vec3, dir: Vec3) -> Vec3 {
+    let mut offset = n * error;
+    if dir.dot(n) < 0.0 {
+        offset = -offset;
+    }
+    let mut po = p + offset;
+    for axis in 0..3 {
+        if offset[axis] > 0.0 {
+            po[axis] = po[axis].next_up();
+        } else if offset[axis] < 0.0 {
+            po[axis] = po[axis].next_down();
+        }
+    }
+    po
+}
+
+/// The entry-wise absolute value of a matrix, for bounding the rounding of a transform.
+#[inline]
+pub fn abs_matrix(m: Mat3A) -> Mat3A {
+    Mat3A::from_cols(m.x_axis.abs(), m.y_axis.abs(), m.z_axis.abs())
+}
+
+/// A bound on the rounding error of `m.transform_point3(p)` for an exact `p`, per axis (the
+/// pbrt-v4 bound: `γ(3)·(|M|·|p| + |t|)`).
+#[inline]
+pub fn transform_error(m: &Affine3A, p: Vec3) -> Vec3 {
+    let abs: Vec3 = (abs_matrix(m.matrix3) * Vec3A::from(p.abs())).into();
+    (abs + Vec3::from(m.translation.abs())) * gamma(3)
 }
 
 /// Mirror reflection of incoming direction `d` about unit normal `n`.

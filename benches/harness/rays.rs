@@ -7,7 +7,7 @@
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
-use penumbra::math::{offset_distance, Ray, Vec3};
+use penumbra::math::{Ray, Vec3, SHADOW_EPSILON};
 use penumbra::store::PrimitiveStore;
 use penumbra::trace::{closest_hit, transmittance, TraceScene};
 use rayon::prelude::*;
@@ -30,10 +30,9 @@ pub fn ray_set<S: PrimitiveStore>(scene: &TraceScene<S>, w: u32, h: u32, light: 
             let hit = closest_hit(scene, ray, 0.0, f32::INFINITY)?;
             let sp = scene.store.surface(&hit, ray);
             let n = if sp.normal.dot(ray.dir) < 0.0 { sp.normal } else { -sp.normal };
-            let eps = offset_distance(sp.point, scene.offset_floor);
             let to = light - sp.point;
             let dist = to.length();
-            Some((Ray::new(sp.point + n * eps, to / dist), dist - eps))
+            Some((Ray::new(sp.spawn(n), to / dist), dist * (1.0 - SHADOW_EPSILON)))
         })
         .collect();
     RaySet { primary, shadow }

@@ -3,7 +3,7 @@
 //! Stored as the world-to-object map and the object-space corners; the slab test runs in
 //! object space, where an affine map preserves the ray parameter.
 
-use crate::math::{Aabb, Affine3A, Ray, Vec3};
+use crate::math::{transform_error, Aabb, Affine3A, Ray, Vec3};
 
 /// Which face a box hit landed on, for the normal.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -14,7 +14,17 @@ pub struct CuboidHit {
     pub local_normal: Vec3,
 }
 
-/// Nearest hit within `(t_min, t_max)` of a world ray with the box `[min, max]` in object space.
+/// Nearest hit within `(t_min, t_max)` of a world ray with the box `[min, max]` in object space,
+/// for a direction of any non-zero length (`t` in units of its length; an affine map keeps `t`).
+///
+/// The box is closed: touching it is hitting it. A ray lying in a face's plane, along an edge
+/// or through a corner hits where it first meets the closed box, exactly as
+/// [`crate::math::Aabb::clip_ray`] clips rays to the grid, and the same on all six faces: an
+/// axis along which the ray does not move constrains nothing when the origin lies in that
+/// slab, walls included, and misses otherwise. The slab distances are divided, not multiplied
+/// by a reciprocal, so no `0 × ∞` can make a NaN, and a subnormal direction component cannot
+/// overflow. The face reported is the one whose slab decided `t` (the first axis in x, y, z
+/// order on an edge or corner).
 #[inline]
 pub fn intersect(
     world_to_object: &Affine3A,
@@ -26,33 +36,38 @@ pub fn intersect(
 ) -> Option<CuboidHit> {
     let o = world_to_object.transform_point3(ray.origin);
     let d = world_to_object.transform_vector3(ray.dir);
-    let inv = d.recip();
-    let t_lo = (min - o) * inv;
-    let t_hi = (max - o) * inv;
-    let near = t_lo.min(t_hi);
-    let far = t_lo.max(t_hi);
-    let t_near = near.x.max(near.y).max(near.z);
-    let t_far = far.x.min(far.y).min(far.z);
-    if t_near > t_far {
+    let (mut t_near, mut near_axis) = (f32::NEG_INFINITY, 3);
+    let (mut t_far, mut far_axis) = (f32::INFINITY, 3);
+    for axis in 0..3 {
+        if d[axis] == 0.0 {
+            if o[axis] < min[axis] || o[axis] > max[axis] {
+                return None;
+            }
+            continue;
+        }
+        let a = (min[axis] - o[axis]) / d[axis];
+        let b = (max[axis] - o[axis]) / d[axis];
+        let (lo, hi) = if a <= b { (a, b) } else { (b, a) };
+        if lo > t_near {
+            (t_near, near_axis) = (lo, axis);
+        }
+        if hi < t_far {
+            (t_far, far_axis) = (hi, axis);
+        }
+    }
+    if near_axis == 3 || t_near > t_far {
+        // A zero direction, or the slabs do not overlap.
         return None;
     }
-    // Entering face when the near plane is ahead, else the exit face (origin inside the box).
-    let (t, axis_t, from_near) = if t_near > t_min && t_near < t_max {
-        (t_near, near, true)
+    // The entering face when it is ahead, else the exit face (origin inside the box).
+    let (t, axis, sign) = if t_near > t_min && t_near < t_max {
+        // Entering through a face means moving against its outward normal.
+        (t_near, near_axis, -d[near_axis].signum())
     } else if t_far > t_min && t_far < t_max {
-        (t_far, far, false)
+        (t_far, far_axis, d[far_axis].signum())
     } else {
         return None;
     };
-    let axis = if axis_t.x == t {
-        0
-    } else if axis_t.y == t {
-        1
-    } else {
-        2
-    };
-    // Entering through a face means moving against its outward normal.
-    let sign = if from_near { -d[axis].signum() } else { d[axis].signum() };
     let mut local_normal = Vec3::ZERO;
     local_normal[axis] = sign;
     Some(CuboidHit { t, local_normal })
@@ -62,6 +77,41 @@ pub fn intersect(
 #[inline]
 pub fn world_normal(world_to_object: &Affine3A, local_normal: Vec3) -> Vec3 {
     world_to_object.matrix3.transpose().mul_vec3a(local_normal.into()).normalize().into()
+}
+
+/// The world hit point of `ray` at `t` on the face `local_normal` of the box, and a conservative
+/// bound on its distance from that face along the world normal.
+///
+/// The object-space point is put exactly on the face plane (`min` or `max` on the face's
+/// axis), then mapped to the world. What the box test will see of a ray leaving from there is
+/// that point mapped back through `world_to_object`, so the bound is measured rather than
+/// derived: the mapped-back point's distance from the face, plus the rounding of that map
+/// (twice: once for this measurement, once for the next ray's own), divided by how much one
+/// world unit along the normal moves the object-space coordinate.
+pub fn surface_point(
+    world_to_object: &Affine3A,
+    min: Vec3,
+    max: Vec3,
+    local_normal: Vec3,
+    ray: &Ray,
+    t: f32,
+) -> (Vec3, f32) {
+    let axis = if local_normal.x != 0.0 {
+        0
+    } else if local_normal.y != 0.0 {
+        1
+    } else {
+        2
+    };
+    let face = if local_normal[axis] < 0.0 { min[axis] } else { max[axis] };
+    let mut local =
+        world_to_object.transform_point3(ray.origin) + world_to_object.transform_vector3(ray.dir) * t;
+    local[axis] = face;
+    let point = world_to_object.inverse().transform_point3(local);
+    let back = world_to_object.transform_point3(point);
+    let residual = (back[axis] - face).abs() + 2.0 * transform_error(world_to_object, point)[axis];
+    let row = world_to_object.matrix3.row(axis).length();
+    (point, residual / row)
 }
 
 /// World bounds of the placed box.

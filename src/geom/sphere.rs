@@ -1,6 +1,6 @@
 //! Sphere: centre and radius.
 
-use crate::math::{unit_and_length, Aabb, Ray, Vec3};
+use crate::math::{gamma, unit_and_length, Aabb, Ray, Vec3};
 
 /// The bounds of a sphere.
 #[inline]
@@ -8,32 +8,116 @@ pub fn bounds(centre: Vec3, radius: f32) -> Aabb {
     Aabb::new(centre - Vec3::splat(radius), centre + Vec3::splat(radius))
 }
 
-/// Nearest hit of a unit-direction ray with a sphere within `(t_min, t_max)`.
+/// Nearest hit of a ray with a sphere within `(t_min, t_max)`, for a direction of any non-zero
+/// length; `t` is in units of the direction's length (the hit is `origin + t·dir`).
 ///
-/// Uses the geometric discriminant `r² - |f - (f·d)d|²` (Ray Tracing Gems, ch. 7), which keeps its
-/// precision for grazing rays and for spheres far from the ray origin, and the stable root pair
-/// `q = b + sign(b)·√Δ`, `t = c/q, q`.
+/// Follows Haines, Günther and Akenine-Möller, "Precision Improvements for Ray/Sphere
+/// Intersection" (Ray Tracing Gems, 2019, ch. 7): the discriminant comes from the vector `l`
+/// from the centre to the ray's point of closest approach, `Δ = a·(r² − |l|²)` with
+/// `a = dir·dir`, which keeps its precision for spheres far from the origin; the roots come
+/// from the stable pair `q = b + sign(b)·√Δ`, `t = c/q, q/a`.
+///
+/// Two guards make the answer trustworthy where f32 cannot decide it:
+/// - a ray within the rounding error of the tangent (`|r² − |l|²|` below its error bound, a
+///   grazing ray from 10⁵ radii away, say) is decided again in f64, where the same inputs give
+///   an error ten orders of magnitude smaller;
+/// - a root is taken only when it exceeds `t_min` by more than its own error bound, so a ray
+///   leaving the surface (offset by its error bound, see [`surface_point`]) never finds the
+///   surface it left at a tiny `t` (pbrt-v4's conservative root test).
 #[inline]
 pub fn intersect(centre: Vec3, radius: f32, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+    let d = ray.dir;
     let f = ray.origin - centre;
-    let b = -f.dot(ray.dir);
-    let closest = f + b * ray.dir;
+    let a = d.dot(d);
+    let b = -f.dot(d);
+    let l = f + (b / a) * d;
     let r2 = radius * radius;
-    let disc = r2 - closest.length_squared();
+    let ll = l.dot(l);
+    let disc = r2 - ll;
+    let ff = f.dot(f);
+    if disc.abs() <= discriminant_error(f, d, a, ll, ff, r2) {
+        return intersect_f64(centre, radius, ray, t_min, t_max);
+    }
     if disc < 0.0 {
         return None;
     }
-    let c = f.length_squared() - r2;
-    let q = b + disc.sqrt().copysign(b);
-    let (t0, t1) = if q == 0.0 { (0.0, 0.0) } else { (c / q, q) };
+    let c = ff - r2;
+    let q = b + (a * disc).sqrt().copysign(b);
+    let (t0, t1) = (c / q, q / a);
+    // Bound on either root's rounding error: the error of `c` over `|q|`, and a few ulps of the root.
+    let spread = gamma(8) * (ff + r2) / q.abs();
     let (near, far) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
-    if near > t_min && near < t_max {
+    let inside = |t: f32| t - (spread + gamma(8) * t.abs()) > t_min && t < t_max;
+    if inside(near) {
         Some(near)
-    } else if far > t_min && far < t_max {
+    } else if inside(far) {
         Some(far)
     } else {
         None
     }
+}
+
+/// A bound on the rounding error of `r² − |l|²` as [`intersect`] computes it: `l`'s components
+/// are off by at most `γ(9)·(|f_i| + m·|d_i|)` with `m = (|f|·|d|)/a`, so `|l|²` is off by
+/// at most `2·|l|·|δl| + |δl|² + γ(3)·|l|²`, and `r²` by half an ulp. The square root is
+/// taken only for rays near the tangent, where a cheap bound says it could matter.
+#[inline]
+fn discriminant_error(f: Vec3, d: Vec3, a: f32, ll: f32, ff: f32, r2: f32) -> f32 {
+    // |δl| ≤ γ(9)·(|f| + m·|d|) ≤ 2·γ(9)·|f| (Cauchy–Schwarz), so 2·|l|·|δl| ≤ 4·γ(9)·|l|·|f|.
+    let coarse = gamma(9) * 2.0 * (ll + ff) + gamma(3) * (ll + r2);
+    if (r2 - ll).abs() > coarse {
+        return 0.0;
+    }
+    let m = f.abs().dot(d.abs()) / a;
+    let dl = (f.abs() + d.abs() * m) * gamma(9);
+    let dl2 = dl.dot(dl);
+    2.0 * (ll * dl2).sqrt() + dl2 + gamma(3) * (ll + r2)
+}
+
+/// [`intersect`] carried out in f64: for rays within f32's rounding error of the tangent.
+#[cold]
+fn intersect_f64(centre: Vec3, radius: f32, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+    let d = ray.dir.as_dvec3();
+    let f = ray.origin.as_dvec3() - centre.as_dvec3();
+    let a = d.dot(d);
+    let b = -f.dot(d);
+    let l = f + (b / a) * d;
+    let r2 = f64::from(radius) * f64::from(radius);
+    let disc = r2 - l.dot(l);
+    if disc < 0.0 {
+        return None;
+    }
+    let ff = f.dot(f);
+    let q = b + (a * disc).sqrt().copysign(b);
+    if q == 0.0 {
+        return None;
+    }
+    let (t0, t1) = ((ff - r2) / q, q / a);
+    let spread = 16.0 * f64::EPSILON * ((ff + r2) / q.abs());
+    let (near, far) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
+    let inside =
+        |t: f64| t - (spread + 16.0 * f64::EPSILON * t.abs()) > f64::from(t_min) && (t as f32) < t_max;
+    [near, far].into_iter().find(|&t| inside(t)).map(|t| t as f32).filter(|&t| t > t_min)
+}
+
+/// The hit point of `ray` at `t` on the sphere, its outward unit normal, and a conservative
+/// bound on the point's distance from the true surface along that normal.
+///
+/// The point is reprojected onto the sphere (the ray's `origin + t·dir` is off by the error of
+/// `t` times the ray's length; the reprojected point is within `γ(5)·r` of the sphere, pbrt-v4's
+/// bound), then placed in the world, which adds half an ulp of its coordinates. Where rounding
+/// put the point on the centre (a sphere smaller than the float spacing of its coordinates),
+/// the normal falls back as [`normal`] explains and the bound is the whole radius.
+#[inline]
+pub fn surface_point(centre: Vec3, radius: f32, ray: &Ray, t: f32) -> (Vec3, Vec3, f32) {
+    let p = ray.at(t);
+    let Some((n, _)) = unit_and_length(p - centre) else {
+        return (p, normal(centre, radius, p, ray), radius + gamma(2) * p.abs().max_element());
+    };
+    let local = n * radius;
+    let point = centre + local;
+    let error = local.abs() * gamma(5) + point.abs() * gamma(2);
+    (point, n, error.dot(n.abs()))
 }
 
 /// Outward unit normal at a point `p` where `ray` hit the sphere.
@@ -52,10 +136,11 @@ pub fn normal(centre: Vec3, radius: f32, p: Vec3, ray: &Ray) -> Vec3 {
         return n;
     }
     let inside = (ray.origin - centre).length_squared() < radius * radius;
+    let dir = ray.dir.normalize_or(Vec3::Z);
     if inside {
-        ray.dir
+        dir
     } else {
-        -ray.dir
+        -dir
     }
 }
 

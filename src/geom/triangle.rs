@@ -10,7 +10,7 @@
 //! paper prescribes) is given to exactly one of the triangles around it by a tie-break that
 //! treats the ray as nudged by an infinitesimal fixed offset in the sheared plane.
 
-use crate::math::{Aabb, Ray, Vec3};
+use crate::math::{gamma, Aabb, Ray, Vec3};
 
 /// A triangle hit: ray parameter and barycentrics of `v1` and `v2`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -117,6 +117,18 @@ pub fn intersect(
         return None;
     }
     Some(TriangleHit { t, u: v / det, v: w / det })
+}
+
+/// The hit point at barycentrics `(u, v)` of `v1`, `v2`, interpolated from the vertices (which,
+/// unlike `origin + t·dir`, does not carry the error of `t`), and a conservative bound on its
+/// distance from the triangle's plane along the unit normal `n`: pbrt-v4's
+/// `γ(7)·(|b0·v0| + |b1·v1| + |b2·v2|)` per axis, projected on `|n|`.
+#[inline]
+pub fn surface_point(v0: Vec3, v1: Vec3, v2: Vec3, u: f32, v: f32, n: Vec3) -> (Vec3, f32) {
+    let b0 = 1.0 - u - v;
+    let point = v0 * b0 + v1 * u + v2 * v;
+    let error = ((v0 * b0).abs() + (v1 * u).abs() + (v2 * v).abs()) * gamma(7);
+    (point, error.dot(n.abs()))
 }
 
 /// Whether a ray exactly on the edge whose function is `f.x * g.y - f.y * g.x` counts as

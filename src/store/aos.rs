@@ -205,37 +205,25 @@ impl PrimitiveStore for AosStore {
     }
 
     fn surface(&self, hit: &Hit, ray: &Ray) -> SurfacePoint {
-        let point = ray.at(hit.t);
         if hit.object & super::UNBOUNDED_FLAG != 0 {
             let p = &self.planes[(hit.object & !super::UNBOUNDED_FLAG) as usize];
-            return SurfacePoint {
-                point,
-                normal: p.normal,
-                shading: p.normal,
-                lift: Vec3::ZERO,
-                material: p.material,
-            };
+            return super::plane_surface(p.normal, p.offset, hit, ray, p.material);
         }
         let obj = &self.objects[hit.object as usize];
-        let (normal, shading, lift) = match &obj.shape {
+        match &obj.shape {
             AosShape::Sphere { centre, radius } => {
-                let n = sphere::normal(*centre, *radius, point, ray);
-                (n, n, Vec3::ZERO)
+                super::sphere_surface(*centre, *radius, hit, ray, obj.material)
             }
             AosShape::Triangles { first, .. } => {
-                let [a, b, c] = self.triangles.vertices(first + hit.prim);
-                let n = triangle::normal(a, b, c);
-                (n, n, Vec3::ZERO)
+                super::triangle_surface(self.triangles.vertices(first + hit.prim), hit, obj.material)
             }
-            AosShape::Cuboid { to_object, .. } => {
-                let n = super::cuboid_normal(to_object, hit.prim);
-                (n, n, Vec3::ZERO)
+            AosShape::Cuboid { to_object, min, max } => {
+                super::cuboid_surface(to_object, *min, *max, hit, ray, obj.material)
             }
             AosShape::Instance { to_object, mesh } => {
-                mesh::instance_normals(&self.meshes[*mesh as usize], to_object, hit)
+                super::instance_surface(&self.meshes[*mesh as usize], to_object, hit, obj.material)
             }
-        };
-        SurfacePoint { point, normal, shading, lift, material: obj.material }
+        }
     }
 
     fn memory_bytes(&self) -> usize {

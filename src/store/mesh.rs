@@ -13,7 +13,7 @@ use super::{TraversalCost, TriangleLayout};
 use crate::accel::{GridBuilder, GridWalk, UniformGrid};
 use crate::geom::mesh::MeshData;
 use crate::geom::triangle::{self, TriangleHit, WatertightRay};
-use crate::math::{Affine3A, Ray, Vec3};
+use crate::math::{gamma, transform_error, Affine3A, Ray, Vec3};
 
 /// A mesh in object space with its grid: what every instance of the mesh shares.
 #[derive(Debug, Clone)]
@@ -214,21 +214,44 @@ pub fn instance_hit<L: TriangleLayout>(
         .map(|(i, h)| super::Hit::triangle(object, i, &h))
 }
 
-/// Geometric and shading normals in world space at a hit on a mesh instance, and the lift of
-/// the point for rays leaving its front (see [`super::SurfacePoint::lift`]). Normals map by the
-/// transpose of the world-to-object map's linear part.
-pub fn instance_normals<L: TriangleLayout>(
+/// A hit on a mesh instance in world space: the point, the bound on its distance from the
+/// triangle along the geometric normal, the geometric and shading normals, and the lift of the
+/// point for rays leaving its front (see [`super::SurfacePoint`]). Normals map by the transpose
+/// of the world-to-object map's linear part.
+///
+/// The point is interpolated from the object-space vertices and mapped to the world. A ray
+/// leaving it meets the triangle again only through `to_object`, so the bound is measured in
+/// object space: the mapped-back point's distance from the triangle's plane, plus the rounding
+/// of that measurement and of the next ray's own map, converted to world units along the normal.
+pub fn instance_surface<L: TriangleLayout>(
     mesh: &MeshEntry<L>,
     to_object: &Affine3A,
     hit: &super::Hit,
-) -> (Vec3, Vec3, Vec3) {
+) -> InstanceSurface {
     let [a, b, c] = mesh.triangles.vertices(hit.prim);
-    let local = (b - a).cross(c - a);
+    let (e1, e2) = (b - a, c - a);
+    let local = e1.cross(e2);
     let normal_map = to_object.matrix3.transpose();
     let geometric = normal_map.mul_vec3(local).try_normalize().unwrap_or(Vec3::Y);
+    let w = [1.0 - hit.u - hit.v, hit.u, hit.v];
+    let p = a * w[0] + b * hit.u + c * hit.v;
+    let point = to_object.inverse().transform_point3(p);
+    let error = match local.try_normalize() {
+        Some(n) => {
+            let back = to_object.transform_point3(point);
+            let rel = back - a;
+            // The computed normal's direction is off by about γ(8)·|e1|·|e2| / |e1 × e2| radians.
+            let tilt = gamma(8) * (e1.length_squared() * e2.length_squared() / local.length_squared()).sqrt();
+            let residual = rel.dot(n).abs() + rel.length() * (gamma(4) + tilt);
+            let mapping = 2.0 * transform_error(to_object, point).dot(n.abs());
+            (residual + mapping) / normal_map.mul_vec3(n).length()
+        }
+        // A degenerate triangle is never hit; keep the bound finite.
+        None => gamma(8) * point.abs().max_element(),
+    };
     let data = &mesh.asset.data;
     if data.normals.is_empty() {
-        return (geometric, geometric, Vec3::ZERO);
+        return InstanceSurface { point, error, geometric, shading: geometric, lift: Vec3::ZERO };
     }
     let mut local_shading = mesh.asset.shading_normal(hit.prim, hit.u, hit.v, local);
     // A face wound against its neighbours (scanned meshes have some) keeps its own side.
@@ -238,8 +261,6 @@ pub fn instance_normals<L: TriangleLayout>(
     let shading = normal_map.mul_vec3(local_shading).try_normalize().unwrap_or(geometric);
     // Lift: project the hit point onto each vertex's tangent plane and blend with the
     // barycentrics; keep it only where it lies above the facet (convex parts).
-    let w = [1.0 - hit.u - hit.v, hit.u, hit.v];
-    let p = a * w[0] + b * hit.u + c * hit.v;
     let normals = data.indices[hit.prim as usize].map(|k| data.normals[k as usize]);
     let lifted: Vec3 =
         [a, b, c].iter().zip(normals).zip(w).map(|((&v, n), wi)| (p - (p - v).dot(n) * n) * wi).sum();
@@ -254,5 +275,20 @@ pub fn instance_normals<L: TriangleLayout>(
     } else {
         Vec3::ZERO
     };
-    (geometric, shading, lift)
+    InstanceSurface { point, error, geometric, shading, lift }
+}
+
+/// What [`instance_surface`] finds at a hit on a mesh instance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InstanceSurface {
+    /// World position.
+    pub point: Vec3,
+    /// Bound on the point's distance from the triangle along `geometric`, in world units.
+    pub error: f32,
+    /// Unit geometric normal.
+    pub geometric: Vec3,
+    /// Unit shading normal.
+    pub shading: Vec3,
+    /// Lift of the point for rays leaving the front.
+    pub lift: Vec3,
 }

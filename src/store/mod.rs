@@ -22,7 +22,7 @@ pub use soa::{SoaStore, SoaTriangles};
 use crate::geom::mesh::MeshData;
 use crate::geom::triangle::{TriangleHit, WatertightRay};
 use crate::geom::Placed;
-use crate::math::{Ray, Vec3};
+use crate::math::{offset_origin, Ray, Vec3};
 
 /// Index of a material in the snapshot's material table.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
@@ -84,8 +84,29 @@ pub struct SurfacePoint {
     /// "Hacking the shadow terminator"), so that shadow rays do not fall back onto the flat
     /// facet; zero elsewhere.
     pub lift: Vec3,
+    /// A conservative bound on the distance between `point` and the surface along `normal`, as
+    /// the shape's own intersection test will see a ray starting there (each shape derives it
+    /// from the rounding of its arithmetic, pbrt-v4 style): rays leaving the surface start just
+    /// beyond it ([`SurfacePoint::spawn`]).
+    pub error: f32,
     /// Material of the object hit.
     pub material: MaterialId,
+}
+
+impl SurfacePoint {
+    /// The origin of a ray leaving this point towards `dir`: just beyond the error bound along
+    /// the geometric normal, on the side `dir` points into ([`crate::math::offset_origin`]).
+    /// Rays leaving the front of a smooth mesh start from the lifted point.
+    #[inline]
+    pub fn spawn(&self, dir: Vec3) -> Vec3 {
+        if self.lift != Vec3::ZERO && dir.dot(self.normal) > 0.0 {
+            // Adding the lift rounds the coordinates by half an ulp each.
+            let lifted = self.point + self.lift;
+            let error = self.error + crate::math::gamma(1) * lifted.abs().dot(self.normal.abs());
+            return offset_origin(lifted, error, self.normal, dir);
+        }
+        offset_origin(self.point, self.error, self.normal, dir)
+    }
 }
 
 /// One object handed to a store: placed geometry and its material.
@@ -208,10 +229,79 @@ pub(crate) fn cuboid_hit(
     })
 }
 
-/// World normal of the box face encoded by [`cuboid_hit`].
+/// The object-space outward normal of the box face encoded by [`cuboid_hit`].
 #[inline]
-pub(crate) fn cuboid_normal(to_object: &crate::math::Affine3A, face: u32) -> Vec3 {
+fn cuboid_local_normal(face: u32) -> Vec3 {
     let mut local = Vec3::ZERO;
     local[(face & 3) as usize] = if face & 4 != 0 { -1.0 } else { 1.0 };
-    crate::geom::cuboid::world_normal(to_object, local)
+    local
+}
+
+/// The surface at a hit on the box face encoded by [`cuboid_hit`].
+#[inline]
+pub(crate) fn cuboid_surface(
+    to_object: &crate::math::Affine3A,
+    min: Vec3,
+    max: Vec3,
+    hit: &Hit,
+    ray: &Ray,
+    material: MaterialId,
+) -> SurfacePoint {
+    let local = cuboid_local_normal(hit.prim);
+    let normal = crate::geom::cuboid::world_normal(to_object, local);
+    let (point, error) = crate::geom::cuboid::surface_point(to_object, min, max, local, ray, hit.t);
+    SurfacePoint { point, normal, shading: normal, lift: Vec3::ZERO, error, material }
+}
+
+/// The surface at a hit on a sphere.
+#[inline]
+pub(crate) fn sphere_surface(
+    centre: Vec3,
+    radius: f32,
+    hit: &Hit,
+    ray: &Ray,
+    material: MaterialId,
+) -> SurfacePoint {
+    let (point, normal, error) = crate::geom::sphere::surface_point(centre, radius, ray, hit.t);
+    SurfacePoint { point, normal, shading: normal, lift: Vec3::ZERO, error, material }
+}
+
+/// The surface at a hit on a world-space triangle.
+#[inline]
+pub(crate) fn triangle_surface([a, b, c]: [Vec3; 3], hit: &Hit, material: MaterialId) -> SurfacePoint {
+    let normal = crate::geom::triangle::normal(a, b, c);
+    let (point, error) = crate::geom::triangle::surface_point(a, b, c, hit.u, hit.v, normal);
+    SurfacePoint { point, normal, shading: normal, lift: Vec3::ZERO, error, material }
+}
+
+/// The surface at a hit on a plane.
+#[inline]
+pub(crate) fn plane_surface(
+    normal: Vec3,
+    offset: f32,
+    hit: &Hit,
+    ray: &Ray,
+    material: MaterialId,
+) -> SurfacePoint {
+    let (point, error) = crate::geom::plane::surface_point(normal, offset, ray, hit.t);
+    SurfacePoint { point, normal, shading: normal, lift: Vec3::ZERO, error, material }
+}
+
+/// The surface at a hit on a mesh instance.
+#[inline]
+pub(crate) fn instance_surface<L: TriangleLayout>(
+    mesh: &MeshEntry<L>,
+    to_object: &crate::math::Affine3A,
+    hit: &Hit,
+    material: MaterialId,
+) -> SurfacePoint {
+    let s = mesh::instance_surface(mesh, to_object, hit);
+    SurfacePoint {
+        point: s.point,
+        normal: s.geometric,
+        shading: s.shading,
+        lift: s.lift,
+        error: s.error,
+        material,
+    }
 }

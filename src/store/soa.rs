@@ -302,40 +302,34 @@ impl PrimitiveStore for SoaStore {
     }
 
     fn surface(&self, hit: &Hit, ray: &Ray) -> SurfacePoint {
-        let point = ray.at(hit.t);
         if hit.object & super::UNBOUNDED_FLAG != 0 {
             let i = (hit.object & !super::UNBOUNDED_FLAG) as usize;
-            let normal = self.plane_normal.get(i);
-            return SurfacePoint {
-                point,
-                normal,
-                shading: normal,
-                lift: Vec3::ZERO,
-                material: self.plane_material[i],
-            };
+            let material = self.plane_material[i];
+            return super::plane_surface(self.plane_normal.get(i), self.plane_offset[i], hit, ray, material);
         }
         let o = hit.object as usize;
         let first = self.first[o] as usize;
-        let (normal, shading, lift) = match self.kind[o] {
+        let material = self.material[o];
+        match self.kind[o] {
             Kind::Sphere => {
-                let n = sphere::normal(self.centre.get(first), self.radius[first], point, ray);
-                (n, n, Vec3::ZERO)
+                super::sphere_surface(self.centre.get(first), self.radius[first], hit, ray, material)
             }
             Kind::Triangles => {
-                let [a, b, c] = self.triangles.vertices(first as u32 + hit.prim);
-                let n = triangle::normal(a, b, c);
-                (n, n, Vec3::ZERO)
+                super::triangle_surface(self.triangles.vertices(first as u32 + hit.prim), hit, material)
             }
-            Kind::Cuboid => {
-                let n = super::cuboid_normal(&self.box_to_object.get(first), hit.prim);
-                (n, n, Vec3::ZERO)
-            }
+            Kind::Cuboid => super::cuboid_surface(
+                &self.box_to_object.get(first),
+                self.box_min.get(first),
+                self.box_max.get(first),
+                hit,
+                ray,
+                material,
+            ),
             Kind::Instance => {
                 let mesh = &self.meshes[self.instance_mesh[first] as usize];
-                mesh::instance_normals(mesh, &self.instance_to_object.get(first), hit)
+                super::instance_surface(mesh, &self.instance_to_object.get(first), hit, material)
             }
-        };
-        SurfacePoint { point, normal, shading, lift, material: self.material[o] }
+        }
     }
 
     fn memory_bytes(&self) -> usize {

@@ -6,7 +6,7 @@ use super::render::{RenderSettings, Sampling};
 use super::scene::TraceScene;
 use super::stats::RayCounts;
 use crate::accel::GridWalk;
-use crate::math::{offset_distance, reflect, refract, Ray, Vec2, Vec3};
+use crate::math::{reflect, refract, Ray, Vec2, Vec3};
 use crate::sample::pattern::square_point;
 use crate::sample::rng::{hash, permute, uniform2, SampleKey, SampleStream};
 use crate::sample::warp::cone;
@@ -387,15 +387,9 @@ pub fn radiance<S: PrimitiveStore>(
     // offsets and sides), `ns` the shading normal there, unless it would face away from the
     // viewer (possible at grazing angles on a smooth mesh), where the geometric one takes over.
     let (entering, n, ns) = facing_normals(&sp, ray.dir);
-    let eps = offset_distance(sp.point, scene.offset_floor);
-    // Rays leave the front of a smooth mesh from its lifted point (no shadow terminator).
-    let origin = if entering { sp.point + sp.lift } else { sp.point };
-    let surface = Surface {
-        point: sp.point,
-        normal: ns,
-        above: origin + n * offset_distance(origin, scene.offset_floor),
-        eps,
-    };
+    // Rays leave just beyond the hit point's error bound, on their side of the geometric normal
+    // (the front of a smooth mesh from its lifted point: no shadow terminator).
+    let surface = Surface { point: sp.point, normal: ns, above: sp.spawn(n), eps: sp.error };
     let mut colour = scene.ambient * m.kd + direct_light(scene, &m, &surface, -ray.dir, ctx);
 
     if depth >= ctx.max_depth {
@@ -439,7 +433,7 @@ pub fn radiance<S: PrimitiveStore>(
         let eta = if entering { 1.0 / m.ior } else { m.ior };
         let bent = refract(ray.dir, ns, eta).filter(|d| d.dot(n) < 0.0);
         let (origin, dir, side) = match bent.or_else(|| refract(ray.dir, n, eta)) {
-            Some(dir) => (sp.point - n * eps, dir, -n),
+            Some(dir) => (sp.spawn(-n), dir, -n),
             None => (surface.above, reflect(ray.dir, n), n),
         };
         if m.glossiness > 0.0 {

@@ -6,20 +6,21 @@ use super::integrator::{transmittance_costed, PathContext};
 use super::light::Light;
 use super::material::Material;
 use super::scene::TraceScene;
-use crate::math::{reflect, Ray, Vec3};
+use crate::math::{reflect, Ray, Vec3, SHADOW_EPSILON};
 use crate::store::{PrimitiveStore, TraversalCost};
 
-/// A shading point: where it is, the normal on the side the ray arrived from, and the point
-/// lifted off the surface along that normal by `eps` (shadow rays start there).
+/// A shading point: where it is, the normal on the side the ray arrived from, and the origin of
+/// rays leaving on that side (shadow rays start there).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Surface {
     /// Hit point.
     pub point: Vec3,
     /// Unit normal facing the incoming ray.
     pub normal: Vec3,
-    /// `point + normal · eps`.
+    /// Where rays leaving on the normal's side start: just beyond `point`'s error bound
+    /// ([`crate::store::SurfacePoint::spawn`]).
     pub above: Vec3,
-    /// Offset distance of secondary rays at this point.
+    /// The bound on `point`'s distance from the surface: a light closer than it is not seen.
     pub eps: f32,
 }
 
@@ -59,7 +60,7 @@ pub fn direct_light<S: PrimitiveStore>(
             continue;
         }
         ctx.rays.shadow += 1;
-        let pass = shadow(scene, &Ray::new(s.above, to_light), dist - s.eps, ctx);
+        let pass = shadow(scene, &Ray::new(s.above, to_light), dist * (1.0 - SHADOW_EPSILON), ctx);
         if pass > 0.0 {
             colour += radiance * pass * phong(m, s.normal, view, to_light, n_dot_l);
         }
@@ -87,7 +88,7 @@ fn area_light<S: PrimitiveStore>(
             continue;
         }
         ctx.rays.area_shadow += 1;
-        let pass = shadow(scene, &Ray::new(s.above, to_light), dist - s.eps, ctx);
+        let pass = shadow(scene, &Ray::new(s.above, to_light), dist * (1.0 - SHADOW_EPSILON), ctx);
         if pass > 0.0 {
             colour += radiance * (pass * share) * phong(m, s.normal, view, to_light, n_dot_l);
         }

@@ -44,8 +44,6 @@ pub struct TraceScene<S: PrimitiveStore = SoaStore> {
     pub ambient: Vec3,
     /// Effects present in this scene.
     pub effects: Effects,
-    /// Floor of the magnitude used for ray offsets: a tiny fraction of the scene's size.
-    pub offset_floor: f32,
     /// Scene names of the objects, bounded ones in grid-id order then unbounded ones (empty
     /// when the snapshot was not built from a World); the legend of the object-id AOV.
     pub object_names: Vec<String>,
@@ -63,12 +61,6 @@ impl<S: PrimitiveStore> TraceScene<S> {
     ) -> Self {
         let SceneTables { materials, lights, camera, background, ambient } = tables;
         let effects = Effects::of(&materials, &lights, &camera);
-        let size = if grid.bounds.is_empty() {
-            0.0
-        } else {
-            grid.bounds.extent().max_element().max(grid.bounds.max.abs().max_element())
-        };
-        let offset_floor = (size.max(camera.position.abs().max_element()) * 1e-3).max(f32::MIN_POSITIVE);
         Self {
             store: S::build(bounded, unbounded, meshes),
             grid,
@@ -78,7 +70,6 @@ impl<S: PrimitiveStore> TraceScene<S> {
             background,
             ambient,
             effects,
-            offset_floor,
             object_names: Vec::new(),
         }
     }
