@@ -7,12 +7,14 @@ mod common;
 
 use std::sync::Arc;
 
+use rand::RngExt;
+
 use glam::DVec3;
 use penumbra::camera::Camera;
 use penumbra::geom::mesh::icosphere;
-use penumbra::geom::{MeshId, Shape};
-use penumbra::math::{offset_distance, Affine3A, Ray, Vec3};
-use penumbra::store::{Hit, MaterialId, MeshAsset, PlacedObject};
+use penumbra::geom::{cuboid, plane, sphere, triangle, MeshId, Placed, Shape};
+use penumbra::math::{reflect, refract, Affine3A, Quat, Ray, Vec3};
+use penumbra::store::{AosStore, Hit, MaterialId, MeshAsset, PlacedObject, PrimitiveStore, SoaStore};
 use penumbra::trace::{closest_hit, closest_hit_brute, Material, SceneTables, TraceScene};
 
 /// What a row expects of the first hit.
@@ -402,12 +404,10 @@ trait MeshAccess {
 
 impl MeshAccess for TraceScene {
     fn store_mesh_vertex(&self, k: usize) -> Vec3 {
-        use penumbra::store::PrimitiveStore;
         self.store.meshes()[0].asset.data.positions[k]
     }
 
     fn store_mesh_edge(&self, f: usize) -> (Vec3, Vec3) {
-        use penumbra::store::PrimitiveStore;
         let data = &self.store.meshes()[0].asset.data;
         let [a, b, _] = data.indices[f];
         (data.positions[a as usize], data.positions[b as usize])
@@ -477,8 +477,8 @@ fn every_hard_ray_gives_its_expected_outcome_through_the_grid_and_brute_force() 
 
 #[test]
 fn secondary_rays_leave_tiny_and_huge_spheres_without_acne() {
-    // From points all over a sphere of radius 1e-4 and 1e4, a ray offset as the integrator
-    // offsets it and leaving into the outer hemisphere never hits the sphere it left.
+    // From points all over a sphere of radius 1e-4 and 1e4, a ray leaving from where the
+    // integrator starts it, into the outer hemisphere, never hits the sphere it left.
     for radius in [1e-4f32, 1.0, 1e4] {
         let centre = Vec3::new(0.3, -0.2, 0.1) * radius * 3.0;
         let objects = [placed(Shape::Sphere { centre, radius }, Affine3A::IDENTITY)];
@@ -488,16 +488,19 @@ fn secondary_rays_leave_tiny_and_huge_spheres_without_acne() {
         let mut rng = common::rng(radius.to_bits() as u64);
         for _ in 0..20_000 {
             let n = common::unit_vector(&mut rng);
-            let p = centre + n * radius;
+            // A ray from outside, aimed at the point of the sphere along `n`.
+            let incoming = Ray::new(centre + n * radius * 3.0, -n);
+            let hit = closest_hit(&scene, &incoming, 0.0, f32::INFINITY).expect("aimed at the sphere");
+            let sp = scene.store.surface(&hit, &incoming);
             let mut d = common::unit_vector(&mut rng);
-            if d.dot(n) < 0.0 {
+            if d.dot(sp.normal) < 0.0 {
                 d = -d;
             }
-            let eps = offset_distance(p, scene.offset_floor);
-            let ray = Ray::new(p + n * eps, d);
+            let ray = Ray::new(sp.spawn(d), d);
             assert!(
                 closest_hit(&scene, &ray, 0.0, f32::INFINITY).is_none(),
-                "radius {radius}: acne at {p} towards {d}"
+                "radius {radius}: acne at {} towards {d}",
+                sp.point
             );
         }
     }
@@ -537,5 +540,473 @@ fn the_default_scene_scaled_by_powers_of_ten_renders_the_same_image() {
             off as f64 <= pixels as f64 * 1e-3,
             "scale {k}: {off} of {pixels} pixels differ by more than 1/255"
         );
+    }
+}
+
+// Rows of issue 17: boxes touched in a face plane, on an edge and at a corner; secondary rays
+// leaving tiny spheres far from the origin; grazing rays from far away; directions of any
+// length; and the offset property over scales and distances.
+
+/// An object of material 0 from world-space geometry (no authored shape in between).
+fn object(geometry: Placed) -> PlacedObject {
+    PlacedObject { geometry, material: MaterialId(0) }
+}
+
+/// The closed box `[-1, 1]³` (object 0) and a far sphere, in layout `S`.
+fn closed_box<S: PrimitiveStore>() -> TraceScene<S> {
+    let unit_box = Placed::Cuboid {
+        to_object: Affine3A::IDENTITY,
+        to_world: Affine3A::IDENTITY,
+        min: Vec3::splat(-1.0),
+        max: Vec3::ONE,
+    };
+    let far = Placed::Sphere { centre: Vec3::splat(6.0), radius: 0.5 };
+    TraceScene::build(&[object(unit_box), object(far)], tables(), 8.0)
+}
+
+/// The unit vector of `axis`, times `s`.
+fn axis_vec(axis: usize, s: f32) -> Vec3 {
+    let mut v = Vec3::ZERO;
+    v[axis] = s;
+    v
+}
+
+/// A ray with a name for messages.
+type Named = (String, Ray);
+
+/// Every way a ray can touch the closed box `[-1, 1]³` on its boundary, each travelling both
+/// ways: in each face's plane through the face (along each of its two axes and diagonally), along
+/// each edge, and through each corner alone (three ways per corner). All inputs are small
+/// integers and the directions have components 0 and ±1, so the expected `t` is exact: 4 for
+/// the face and edge rays (they start 5 units out), 2 for the corner rays. The second list
+/// holds the same face and edge rays moved one float outside the box: all miss.
+fn box_contacts() -> (Vec<(String, Ray, f32)>, Vec<Named>) {
+    let (mut touch, mut outside) = (Vec::new(), Vec::new());
+    for a in 0..3 {
+        let (b, c) = ((a + 1) % 3, (a + 2) % 3);
+        for side in [-1.0f32, 1.0] {
+            for way in [-1.0f32, 1.0] {
+                let face = format!("{}{} face", if side < 0.0 { "-" } else { "+" }, ["x", "y", "z"][a]);
+                let mut rays = Vec::new();
+                for (along, across) in [(b, c), (c, b)] {
+                    let o = axis_vec(a, side) + axis_vec(along, -5.0 * way) + axis_vec(across, 0.25);
+                    rays.push((
+                        format!("{face}, in its plane along {}", ["x", "y", "z"][along]),
+                        o,
+                        axis_vec(along, way),
+                    ));
+                    for edge in [-1.0f32, 1.0] {
+                        let o = axis_vec(a, side) + axis_vec(along, -5.0 * way) + axis_vec(across, edge);
+                        rays.push((
+                            format!("{face}, on its edge at {across}={edge}"),
+                            o,
+                            axis_vec(along, way),
+                        ));
+                    }
+                }
+                let o = axis_vec(a, side) + axis_vec(b, -4.75 * way) + axis_vec(c, -5.0 * way);
+                rays.push((
+                    format!("{face}, diagonally in its plane"),
+                    o,
+                    axis_vec(b, way) + axis_vec(c, way),
+                ));
+                for (name, o, d) in rays {
+                    let name = format!("{name}, travelling {}", if way < 0.0 { "down" } else { "up" });
+                    touch.push((name.clone(), Ray::new(o, d), 4.0));
+                    let mut out = o;
+                    out[a] = if side < 0.0 { (-1.0f32).next_down() } else { 1.0f32.next_up() };
+                    outside.push((format!("{name}, one float outside"), Ray::new(out, d)));
+                }
+            }
+        }
+    }
+    for corner in 0..8 {
+        let c = Vec3::new(
+            if corner & 1 == 0 { -1.0 } else { 1.0 },
+            if corner & 2 == 0 { -1.0 } else { 1.0 },
+            if corner & 4 == 0 { -1.0 } else { 1.0 },
+        );
+        for inward in 0..3 {
+            // Inwards along one axis, outwards along the others: inside the box only at the corner.
+            let mut d = c;
+            d[inward] = -c[inward];
+            for way in [1.0f32, -1.0] {
+                let d = d * way;
+                touch.push((format!("corner {c} alone, direction {d}"), Ray::new(c - 2.0 * d, d), 2.0));
+            }
+        }
+    }
+    (touch, outside)
+}
+
+fn check_box_contacts<S: PrimitiveStore>(layout: &str) {
+    let scene = closed_box::<S>();
+    let (touch, outside) = box_contacts();
+    assert_eq!(touch.len(), 3 * 2 * 2 * 7 + 8 * 3 * 2);
+    for (name, ray, t) in &touch {
+        let hit =
+            cuboid::intersect(&Affine3A::IDENTITY, Vec3::splat(-1.0), Vec3::ONE, ray, 0.0, f32::INFINITY)
+                .unwrap_or_else(|| panic!("{name}: the box test missed"));
+        assert_eq!(hit.t, *t, "{name}: box test t");
+        assert_eq!(hit.local_normal.abs().element_sum(), 1.0, "{name}: {}", hit.local_normal);
+        for (walk, find) in
+            [("grid", closest_hit as fn(&_, &_, _, _) -> _), ("brute force", closest_hit_brute)]
+        {
+            let h = find(&scene, ray, 0.0, f32::INFINITY)
+                .unwrap_or_else(|| panic!("{layout} {walk}, {name}: missed"));
+            assert_eq!((h.object, h.t), (0, *t), "{layout} {walk}, {name}");
+            let sp = scene.store.surface(&h, ray);
+            assert!(sp.point.is_finite() && sp.error.is_finite() && sp.normal.is_finite(), "{name}: {sp:?}");
+            assert_eq!(sp.point, ray.at(*t), "{layout}, {name}: the hit point");
+        }
+    }
+    for (name, ray) in &outside {
+        assert_eq!(
+            cuboid::intersect(&Affine3A::IDENTITY, Vec3::splat(-1.0), Vec3::ONE, ray, 0.0, f32::INFINITY),
+            None,
+            "{name}"
+        );
+        let h = closest_hit(&scene, ray, 0.0, f32::INFINITY);
+        assert!(h.is_none_or(|h| h.object != 0), "{layout}, {name}: {h:?}");
+    }
+}
+
+#[test]
+fn rays_touching_a_box_in_a_face_plane_on_an_edge_or_at_a_corner_hit_it_on_all_six_faces() {
+    check_box_contacts::<SoaStore>("SoA");
+    check_box_contacts::<AosStore>("AoS");
+}
+
+/// A sphere A of radius `r` (object 0) and a neighbour B (object 1) half a radius beyond its
+/// +x side, A's centre `distance` from the world origin, in a snapshot whose origin is
+/// `origin` (positions are subtracted in f64 and rounded once, as the World's snapshots are).
+/// Returns the scene and A's and B's centres relative to the snapshot, in f64.
+fn neighbours(distance: f64, origin: DVec3, r: f64) -> (TraceScene, DVec3, DVec3) {
+    let a = DVec3::new(0.6, 0.48, 0.64) * distance;
+    let b = a + DVec3::X * 2.5 * r;
+    let (a, b) = (a - origin, b - origin);
+    let spheres = [a, b].map(|c| object(Placed::Sphere { centre: c.as_vec3(), radius: r as f32 }));
+    let mut tables = tables();
+    tables.camera = Camera::look_at(Vec3::ZERO, a.as_vec3(), Vec3::Y, 0.8);
+    // The f64 centres the reference uses are the f32 ones the scene holds.
+    let exact = |c: DVec3| c.as_vec3().as_dvec3();
+    (TraceScene::build(&spheres, tables, 2.0), exact(a), exact(b))
+}
+
+/// The first hit of the ray `o + t·d` (f64) with the sphere `(c, r)` beyond `t > 0`.
+fn f64_sphere(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<f64> {
+    let f = o - c;
+    let (a, b) = (d.dot(d), f.dot(d));
+    let disc = b * b - a * (f.dot(f) - r * r);
+    (disc >= 0.0)
+        .then(|| [(-b - disc.sqrt()) / a, (-b + disc.sqrt()) / a])
+        .and_then(|ts| ts.into_iter().find(|&t| t > 0.0))
+}
+
+#[test]
+fn secondary_rays_from_a_tiny_sphere_reach_a_neighbour_half_a_radius_away_at_any_distance() {
+    let r = 1e-4;
+    for distance in [1.0, 1e3, 1e5] {
+        // At distance 1 the camera is at the world origin; farther out it is beside the spheres.
+        let origin = if distance <= 1.0 {
+            DVec3::ZERO
+        } else {
+            DVec3::new(0.6, 0.48, 0.64) * distance + DVec3::new(0.37, -0.21, -0.5)
+        };
+        let (scene, a, b) = neighbours(distance, origin, r);
+        let at = |ray: &Ray| {
+            let h = closest_hit(&scene, ray, 0.0, f32::INFINITY)
+                .unwrap_or_else(|| panic!("distance {distance}: {ray:?} missed"));
+            (h, scene.store.surface(&h, ray))
+        };
+        // Reflection: arrive at A's +x point from the gap, leave towards B.
+        let p = a + DVec3::X * r;
+        let d_in = DVec3::new(-1.0, -0.5, 0.0).normalize();
+        let incoming = Ray::new((p - d_in * 0.3 * r).as_vec3(), d_in.as_vec3());
+        let (h, sp) = at(&incoming);
+        assert_eq!(h.object, 0, "distance {distance}: the incoming ray hits A");
+        let mirror = reflect(incoming.dir, sp.normal);
+        let (h, _) = at(&Ray::new(sp.spawn(mirror), mirror));
+        let expected =
+            f64_sphere(sp.point.as_dvec3(), mirror.as_dvec3(), b, r).expect("the mirror ray meets B");
+        assert_eq!(h.object, 1, "distance {distance}: the mirror ray skipped the neighbour");
+        // The hit point and B's centre are good to a few ulps of their coordinates.
+        let tol = 1e-3 * r + 4.0 * ulp(sp.point) as f64;
+        assert!((h.t as f64 - expected).abs() <= tol, "distance {distance}: t {} vs {expected}", h.t);
+
+        // Refraction: enter A from the camera's side, exit at the far end of the analytic chord.
+        let n2 = DVec3::new(0.3, 0.4, -0.866).normalize();
+        let target = a + n2 * r;
+        let o2 = target + (n2 + DVec3::new(0.2, -0.1, 0.0)) * 3.0 * r;
+        let incoming = Ray::new(o2.as_vec3(), (target - o2).normalize().as_vec3());
+        let (h, sp) = at(&incoming);
+        assert_eq!(h.object, 0);
+        let bent = refract(incoming.dir, sp.normal, 1.0 / 1.5).expect("entering glass refracts");
+        let (h, _) = at(&Ray::new(sp.spawn(bent), bent));
+        let chord = -2.0 * (sp.point.as_dvec3() - a).dot(bent.as_dvec3());
+        assert_eq!(h.object, 0, "distance {distance}: the refracted ray left A elsewhere");
+        let tol = 1e-3 * chord + 4.0 * ulp(sp.point) as f64;
+        assert!((h.t as f64 - chord).abs() <= tol, "distance {distance}: chord {} vs {chord}", h.t);
+
+        // Shadow rays into A's outer hemisphere never find A.
+        let mut rng = common::rng(distance as u64);
+        for _ in 0..2_000 {
+            let n = common::unit_vector(&mut rng).as_dvec3();
+            let aim = a + n * r;
+            let (h, sp) = at(&Ray::new((aim + n * 2.0 * r).as_vec3(), (-n).as_vec3()));
+            if h.object != 0 {
+                continue;
+            }
+            let mut d = common::unit_vector(&mut rng);
+            if d.dot(sp.normal) < 0.0 {
+                d = -d;
+            }
+            let found = closest_hit(&scene, &Ray::new(sp.spawn(d), d), 0.0, f32::INFINITY);
+            assert!(
+                found.is_none_or(|h| h.object != 0),
+                "distance {distance}: self-shadowed at {} towards {d}",
+                sp.point
+            );
+        }
+    }
+}
+
+#[test]
+fn grazing_rays_from_far_away_hit_or_miss_as_exact_arithmetic_says() {
+    // Rays from 1e3 to 1e6 radii away, aimed within 1e-2 … 1e-8 radii of the tangent. The
+    // reference decides in f64 from the very f32 inputs the sphere test gets; cases too close to
+    // call even in f64 are skipped. Plain f32 arithmetic gets a share of them wrong (counted, so
+    // the table is known to be hard).
+    let (centre, radius) = (Vec3::new(0.1, -0.3, 0.2), 1.0f32);
+    let scene: TraceScene = TraceScene::build(&[object(Placed::Sphere { centre, radius })], tables(), 2.0);
+    let mut rng = common::rng(17);
+    let (mut checked, mut naive_wrong) = (0, 0);
+    for far in [1e3f64, 1e4, 1e5, 1e6] {
+        for _ in 0..500 {
+            let u = common::unit_vector(&mut rng).as_dvec3();
+            let v = u.cross(common::unit_vector(&mut rng).as_dvec3()).normalize();
+            let exponent = 2.0 + 6.0 * rng.random::<f64>();
+            let sign = if rng.random::<bool>() { 1.0 } else { -1.0 };
+            let c = centre.as_dvec3();
+            let o = (c + u * far).as_vec3();
+            let aim = c + v * (1.0 + sign * 10f64.powf(-exponent));
+            let length = 10f64.powf(rng.random_range(-3.0..3.0));
+            let d = ((aim - o.as_dvec3()).normalize() * length).as_vec3();
+            let ray = Ray::new(o, d);
+            // Reference: |l|² − r² from the f32 values, in f64.
+            let (of, df) = (o.as_dvec3() - c, d.as_dvec3());
+            let l = of - df * (of.dot(df) / df.dot(df));
+            let margin = l.dot(l) - 1.0;
+            if margin.abs() < 1e-9 {
+                continue;
+            }
+            checked += 1;
+            let hits = margin < 0.0;
+            let got = sphere::intersect(centre, radius, &ray, 0.0, f32::INFINITY);
+            assert_eq!(got.is_some(), hits, "{far} radii away, margin {margin:e}: {ray:?}");
+            let grid = closest_hit(&scene, &ray, 0.0, f32::INFINITY);
+            assert_eq!(grid.is_some(), hits, "{far} radii away through the grid, margin {margin:e}");
+            if let Some(t) = got {
+                let expected = (of.dot(df).abs() - (df.dot(df) * -margin).sqrt()) / df.dot(df);
+                assert!((t as f64 - expected).abs() <= 1e-5 * expected, "{far}: t {t} vs {expected}");
+            }
+            // The textbook f32 discriminant on the same inputs.
+            let (of32, d32) = (o - centre, d / d.length());
+            let b = of32.dot(d32);
+            naive_wrong += u32::from((b * b - (of32.dot(of32) - 1.0) >= 0.0) != hits);
+        }
+    }
+    assert!(checked >= 1_900, "only {checked} decidable cases");
+    assert!(naive_wrong > 100, "plain f32 got only {naive_wrong} wrong: the table is too easy");
+}
+
+#[test]
+fn every_intersection_routine_takes_directions_of_any_length_in_units_of_that_length() {
+    let origin = Vec3::new(0.2, 0.1, -5.0);
+    let mesh = Arc::new(MeshAsset::new("ico", icosphere(Vec3::ZERO, 1.0, 3), 2.0));
+    let instance = Placed::Instance {
+        mesh: MeshId(0),
+        to_object: Affine3A::from_translation(Vec3::new(0.0, 0.0, -10.0)),
+        to_world: Affine3A::from_translation(Vec3::new(0.0, 0.0, 10.0)),
+        bounds: penumbra::math::Aabb::new(Vec3::new(-1.0, -1.0, 9.0), Vec3::new(1.0, 1.0, 11.0)),
+    };
+    let mesh_scene: TraceScene =
+        TraceScene::build_with_meshes(&[object(instance)], std::slice::from_ref(&mesh), tables(), 2.0);
+    let dir = Vec3::new(0.01, 0.02, 1.0).normalize();
+    let unit = Ray::new(origin, dir);
+    let tri = [Vec3::new(-2.0, -2.0, 1.0), Vec3::new(3.0, -2.0, 1.0), Vec3::new(0.0, 3.0, 1.5)];
+    let rotated = Affine3A::from_rotation_translation(Quat::from_rotation_y(0.4), Vec3::new(0.0, 0.0, 2.0));
+    let routines = |ray: &Ray| -> [Option<f32>; 5] {
+        [
+            sphere::intersect(Vec3::ZERO, 1.0, ray, 0.0, f32::INFINITY),
+            cuboid::intersect(&rotated.inverse(), Vec3::splat(-1.0), Vec3::ONE, ray, 0.0, f32::INFINITY)
+                .map(|h| h.t),
+            triangle::intersect(
+                tri[0],
+                tri[1],
+                tri[2],
+                &triangle::WatertightRay::new(ray),
+                0.0,
+                f32::INFINITY,
+            )
+            .map(|h| h.t),
+            plane::intersect(Vec3::new(0.0, 0.6, -0.8), -2.0, ray, 0.0, f32::INFINITY),
+            closest_hit(&mesh_scene, ray, 0.0, f32::INFINITY).map(|h| h.t),
+        ]
+    };
+    let reference = routines(&unit);
+    assert!(reference.iter().all(Option::is_some), "{reference:?}");
+    for length in [1e-3f32, 1e3] {
+        let got = routines(&Ray::new(origin, dir * length));
+        for (k, (g, r)) in got.iter().zip(reference).enumerate() {
+            let (g, r) = (g.expect("hit at any length"), r.unwrap());
+            assert!(
+                (g * length - r).abs() <= 1e-5 * r,
+                "routine {k}, length {length}: {g} × {length} vs {r}"
+            );
+        }
+    }
+}
+
+/// An object of size `s` at `centre` for the offset property: a sphere of radius `s` (kind 0),
+/// the box `[-s, s]³` turned by `turn` (kind 1), a closed icosphere of radius `s` turned by
+/// `turn` (kind 2, a mesh instance), or a world-space triangle about `s` across (kind 3).
+fn sized_object(kind: u32, s: f32, centre: Vec3, turn: Quat, mesh: &Arc<MeshAsset>) -> Placed {
+    let to_world = Affine3A::from_scale_rotation_translation(Vec3::splat(s), turn, centre);
+    match kind {
+        0 => Placed::Sphere { centre, radius: s },
+        1 => Placed::Cuboid { to_object: to_world.inverse(), to_world, min: -Vec3::ONE, max: Vec3::ONE },
+        3 => Placed::Triangles(vec![[
+            Vec3::new(1.0, -0.5, 0.0),
+            Vec3::new(-0.5, 1.0, 0.2),
+            Vec3::new(-0.5, -0.5, -0.2),
+        ]
+        .map(|v| to_world.transform_point3(v))]),
+        _ => Placed::Instance {
+            mesh: MeshId(0),
+            to_object: to_world.inverse(),
+            to_world,
+            bounds: penumbra::geom::transform_bounds(&to_world, &mesh.data.bounds),
+        },
+    }
+}
+
+/// Where a ray from `o` along unit `d` leaves the object of [`sized_object`], in f64 (spheres
+/// and boxes), and the cosine between the ray and the surface's normal there: the reference for
+/// rays sent inwards.
+fn f64_exit(kind: u32, s: f64, centre: DVec3, turn: Quat, o: DVec3, d: DVec3) -> (f64, f64) {
+    if kind == 0 {
+        let f = o - centre;
+        let b = f.dot(d);
+        let t = -b + (b * b - (f.dot(f) - s * s)).max(0.0).sqrt();
+        return (t, ((f + d * t) / s).dot(d).abs());
+    }
+    let back = turn.as_dquat().inverse();
+    let (o, d) = (back * (o - centre), back * d);
+    (0..3)
+        .filter(|&k| d[k] != 0.0)
+        .map(|k| (((if d[k] > 0.0 { s } else { -s }) - o[k]) / d[k], d[k].abs()))
+        .fold((f64::INFINITY, 1.0), |a, b| if b.0 < a.0 { b } else { a })
+}
+
+/// The spacing of f32 values at the largest coordinate of `p`.
+fn ulp(p: Vec3) -> f32 {
+    let m = p.abs().max_element();
+    m.next_up() - m
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig {
+        cases: 400,
+        max_global_rejects: 4096,
+        failure_persistence: None,
+        ..proptest::prelude::ProptestConfig::default()
+    })]
+
+    /// Over sizes 1e-6 … 1e6 and distances from the origin 0 … 1e6 (objects at least 4096 float
+    /// steps across where they stand): a ray leaving a sphere, box, mesh or triangle outwards
+    /// never finds the surface it left and finds a neighbour just beyond its offset (a sphere
+    /// twice the offset and four ulps away, a plane 64 ulps beyond that); a ray sent inwards
+    /// leaves the object where f64 says, not at the point it started from (and passes through a
+    /// triangle).
+    #[test]
+    fn a_secondary_ray_never_finds_its_own_surface_nor_skips_a_neighbour_beyond_its_offset(
+        size in -6.0f64..6.0,
+        far in -1.0f64..6.0,
+        kind in 0u32..4,
+        seed in proptest::prelude::any::<u64>(),
+    ) {
+        let mesh = Arc::new(MeshAsset::new("ico", icosphere(Vec3::ZERO, 1.0, 2), 2.0));
+        let mut rng = common::rng(seed);
+        let distance = if far < 0.0 { 0.0 } else { 10f64.powf(far) };
+        let centre = (common::unit_vector(&mut rng).as_dvec3() * distance).as_vec3();
+        // An object a few float steps across is a point to f32: a ray leaving it moves sideways
+        // by a step, and may meet it again. Objects span at least 4096 steps of their
+        // coordinates (in a snapshot, which is camera-relative, that is their size against their
+        // distance from the camera: 1/2000).
+        let s = (10f64.powf(size) as f32).max(4096.0 * ulp(centre));
+        let axis = common::unit_vector(&mut rng);
+        let turn = Quat::from_axis_angle(axis, rng.random_range(0.0..6.2));
+        let geometry = sized_object(kind, s, centre, turn, &mesh);
+        let scene: TraceScene = TraceScene::build_with_meshes(
+            &[object(geometry)], std::slice::from_ref(&mesh), tables(), 2.0);
+        // Arrive from outside, aimed at the centre.
+        let n = common::unit_vector(&mut rng);
+        let reach = (3.0 * s).max(64.0 * ulp(centre));
+        let incoming = Ray::new(centre + n * reach, -n);
+        let Some(hit) = closest_hit(&scene, &incoming, 0.0, f32::INFINITY) else {
+            // Smaller than the float spacing where it stands: nothing to leave from.
+            proptest::prop_assume!(false);
+            unreachable!()
+        };
+        let sp = scene.store.surface(&hit, &incoming);
+        let out_normal = if sp.normal.dot(incoming.dir) < 0.0 { sp.normal } else { -sp.normal };
+        // Outwards: no hit on the object; a neighbour beyond twice the offset is found.
+        let mut d = common::unit_vector(&mut rng);
+        if d.dot(out_normal) < 0.0 {
+            d = -d;
+        }
+        proptest::prop_assume!(d.dot(out_normal) > 1e-3);
+        let start = sp.spawn(d);
+        let ray = Ray::new(start, d);
+        let again = closest_hit(&scene, &ray, 0.0, f32::INFINITY);
+        proptest::prop_assert!(again.is_none(), "leaving {} towards {d} found {again:?} (offset {})",
+            sp.point, (start - sp.point).length());
+        let gap = 2.0 * (start - sp.point).length() + 4.0 * ulp(sp.point);
+        // A plane's own test is good to a few ulps of `n·p` (an offset far from the origin
+        // cancels): it stands 64 ulps farther.
+        let q = sp.point + d * (gap + 64.0 * ulp(sp.point));
+        proptest::prop_assert!(plane::intersect(-d, (-d).dot(q), &ray, 0.0, f32::INFINITY).is_some(),
+            "skipped a plane {gap} away (offset {})", (start - sp.point).length());
+        proptest::prop_assert!(sphere::intersect(sp.point + d * 2.0 * gap, gap, &ray, 0.0, f32::INFINITY).is_some(),
+            "skipped a sphere {gap} away");
+        // Inwards (where the bound is a sliver of the object): the far side, where f64 puts it
+        // for spheres and boxes, and across the body of the mesh (at least 0.3 of its radius
+        // away at 20° or more from the surface), never at the point it started from.
+        if sp.error < 1e-3 * s {
+            let mut d = common::unit_vector(&mut rng);
+            if d.dot(out_normal) > 0.0 {
+                d = -d;
+            }
+            // At least 20° from the surface.
+            let d = (d - 0.5 * out_normal).normalize();
+            let start = sp.spawn(d);
+            let h = closest_hit(&scene, &Ray::new(start, d), 0.0, f32::INFINITY);
+            let t = h.map(|h| h.t as f64);
+            if kind == 3 {
+                proptest::prop_assert!(h.is_none(), "through a triangle from {} along {d}: {h:?}", sp.point);
+            } else if kind == 2 {
+                proptest::prop_assert!(t.is_some_and(|t| t > 0.3 * s as f64),
+                    "inwards from {} along {d}: {t:?} across a mesh of radius {s}", sp.point);
+            } else {
+                let (exit, cos) =
+                    f64_exit(kind, s as f64, centre.as_dvec3(), turn, start.as_dvec3(), d.as_dvec3());
+                // The object is placed to a few float steps; a ray leaving it at a grazing angle
+                // turns that into more t.
+                let tol = 1e-5 * exit + 16.0 * ulp(sp.point) as f64 / cos;
+                proptest::prop_assert!(t.is_some_and(|t| (t - exit).abs() <= tol),
+                    "inwards from {} along {d}: {t:?}, expected {exit} ± {tol}", sp.point);
+            }
+        }
     }
 }
