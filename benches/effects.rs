@@ -37,7 +37,7 @@ fn plain(full: &SceneDesc) -> SceneDesc {
     for light in &mut d.lights {
         let point = match *light {
             LightDesc::Rect { corner, edge_u, edge_v, colour, intensity, .. } => {
-                Some((corner + 0.5 * (edge_u + edge_v), colour, intensity))
+                Some((corner + 0.5 * (edge_u + edge_v).as_dvec3(), colour, intensity))
             }
             LightDesc::Disk { centre, colour, intensity, .. } => Some((centre, colour, intensity)),
             _ => None,

@@ -15,10 +15,11 @@ mod common;
 mod harness;
 
 use criterion::{BenchmarkId, Criterion, Throughput};
+use glam::{DAffine3, DVec3};
 use harness::rays::{median, mrays, ray_set, trace_primary, trace_shadow, RaySet};
 use penumbra::camera::Camera;
 use penumbra::geom::Shape;
-use penumbra::math::{Affine3A, Vec3};
+use penumbra::math::Vec3;
 use penumbra::store::{AosStore, MaterialId, PlacedObject, PrimitiveStore, SoaStore};
 use penumbra::trace::{Light, Material, SceneTables, TraceScene};
 use rand::RngExt;
@@ -35,13 +36,15 @@ fn many<S: PrimitiveStore>() -> TraceScene<S> {
             let centre = common::point_in(&mut rng, Vec3::new(-4.0, 0.1, -4.0), Vec3::new(4.0, 8.1, 4.0));
             let radius = rng.random_range(0.02f32..0.06);
             PlacedObject {
-                geometry: Shape::Sphere { centre, radius }.place(&Affine3A::IDENTITY),
+                geometry: Shape::Sphere { centre: centre.as_dvec3(), radius }
+                    .place(&DAffine3::IDENTITY, DVec3::ZERO),
                 material: MaterialId(0),
             }
         })
         .collect();
     objects.push(PlacedObject {
-        geometry: Shape::Plane { point: Vec3::ZERO, normal: Vec3::Y }.place(&Affine3A::IDENTITY),
+        geometry: Shape::Plane { point: DVec3::ZERO, normal: Vec3::Y }
+            .place(&DAffine3::IDENTITY, DVec3::ZERO),
         material: MaterialId(0),
     });
     let tables = SceneTables {

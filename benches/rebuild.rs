@@ -3,8 +3,9 @@
 //!
 //! Scene: 100 instances of the full Stanford bunny (69,451 triangles; from `../shared/models/`,
 //! or the shipped 4,500-triangle `scenes/bunny_res3.obj` when that is absent) on a 10×10 lattice
-//! with random rotations, through the ECS World. Each iteration moves one bunny and runs the
-//! frame schedule: `update_bounds`, `rebuild_grid` (the top level over 100 instances) and
+//! with random rotations, through the ECS World. Each iteration moves one bunny (the camera stays
+//! still: a moving camera places every object anew, since snapshots are relative to it) and runs
+//! the frame schedule: `update_bounds`, `rebuild_grid` (the top level over 100 instances) and
 //! `build_snapshot`. The full rebuild is what the frame would cost if the moved mesh's grid had
 //! to be rebuilt too (the mesh grid plus the top level): the cost a single-level grid over
 //! world-space triangles pays on every move, at the least.
@@ -66,7 +67,7 @@ fn scene() -> SceneDesc {
 /// Moves bunny 0 back and forth by `dx` and runs the frame schedule.
 fn move_one(world: &mut SceneWorld, bunny: bevy_ecs::entity::Entity, step: &mut f32) -> usize {
     *step = -*step;
-    world.world_mut().get_mut::<Transform>(bunny).expect("bunny").translation.x += *step;
+    world.world_mut().get_mut::<Transform>(bunny).expect("bunny").translation.x += f64::from(*step);
     world.update().store.bounded_count() as usize
 }
 

@@ -2,10 +2,11 @@
 //! Phong model, Snell's law and the slab-offset formula, computed here independently of the
 //! tracer's own code path.
 
+use glam::{DAffine3, DVec3};
 use penumbra::accel::DEFAULT_LAMBDA;
 use penumbra::camera::Camera;
 use penumbra::geom::Shape;
-use penumbra::math::{Affine3A, Ray, Vec3};
+use penumbra::math::{Ray, Vec3};
 use penumbra::sample::SampleKey;
 use penumbra::store::{MaterialId, PlacedObject};
 use penumbra::trace::integrator::{radiance, CameraSample, PathContext};
@@ -20,7 +21,7 @@ fn path_context(rays: &mut RayCounts) -> PathContext<'_> {
 }
 
 fn object(shape: Shape, material: u32) -> PlacedObject {
-    PlacedObject { geometry: shape.place(&Affine3A::IDENTITY), material: MaterialId(material) }
+    PlacedObject { geometry: shape.place(&DAffine3::IDENTITY, DVec3::ZERO), material: MaterialId(material) }
 }
 
 fn scene(
@@ -58,7 +59,7 @@ fn diffuse_sphere_lit_head_on_is_ambient_plus_kd_times_intensity() {
     let kd = Vec3::new(0.6, 0.4, 0.2);
     let (ambient, intensity) = (Vec3::new(0.1, 0.2, 0.3), Vec3::new(0.9, 0.8, 0.7));
     let m = Material { kd, ..Default::default() };
-    let sphere = object(Shape::Sphere { centre: Vec3::ZERO, radius: 1.0 }, 0);
+    let sphere = object(Shape::Sphere { centre: DVec3::ZERO, radius: 1.0 }, 0);
     // The light sits at the eye, so N·L = 1 where the view axis meets the sphere.
     let s = scene(
         &[sphere],
@@ -74,8 +75,8 @@ fn diffuse_sphere_lit_head_on_is_ambient_plus_kd_times_intensity() {
 fn point_in_shadow_receives_ambient_only() {
     let kd = Vec3::new(0.5, 0.7, 0.9);
     let ambient = Vec3::splat(0.15);
-    let floor = object(Shape::Plane { point: Vec3::ZERO, normal: Vec3::Y }, 0);
-    let blocker = object(Shape::Sphere { centre: Vec3::new(0.0, 2.0, 0.0), radius: 0.5 }, 1);
+    let floor = object(Shape::Plane { point: DVec3::ZERO, normal: Vec3::Y }, 0);
+    let blocker = object(Shape::Sphere { centre: DVec3::new(0.0, 2.0, 0.0), radius: 0.5 }, 1);
     let light = point_light(Vec3::new(0.0, 5.0, 0.0), Vec3::ONE);
     // Looking straight down at the origin past the blocker's side is awkward; look from an angle.
     let camera = Camera::look_at(Vec3::new(0.0, 3.0, -3.0), Vec3::ZERO, Vec3::Y, 20f32.to_radians());
@@ -92,7 +93,7 @@ fn specular_peak_where_r_dot_v_is_one_adds_ks_times_intensity() {
     let kd = Vec3::splat(0.2);
     let (ks, intensity) = (0.5, 0.8);
     let m = Material { kd, ks, shininess: 50.0, ..Default::default() };
-    let sphere = object(Shape::Sphere { centre: Vec3::ZERO, radius: 1.0 }, 0);
+    let sphere = object(Shape::Sphere { centre: DVec3::ZERO, radius: 1.0 }, 0);
     let light = point_light(Vec3::new(0.0, 0.0, -5.0), Vec3::splat(intensity));
     let s = scene(&[sphere], vec![m], vec![light], head_on_camera(), Vec3::ZERO);
     let settings = RenderSettings { width: 11, height: 11, max_depth: 0, ..Default::default() };
@@ -109,8 +110,8 @@ fn mirror_shows_the_colour_of_what_it_faces() {
     let wall_kd = Vec3::new(0.2, 0.5, 0.9);
     let ambient = Vec3::ONE;
     let kr = 0.8;
-    let mirror = object(Shape::Plane { point: Vec3::new(0.0, 0.0, 2.0), normal: -Vec3::Z }, 0);
-    let wall = object(Shape::Plane { point: Vec3::new(0.0, 0.0, -10.0), normal: Vec3::Z }, 1);
+    let mirror = object(Shape::Plane { point: DVec3::new(0.0, 0.0, 2.0), normal: -Vec3::Z }, 0);
+    let wall = object(Shape::Plane { point: DVec3::new(0.0, 0.0, -10.0), normal: Vec3::Z }, 1);
     let materials = vec![
         Material { kd: Vec3::ZERO, kr, ..Default::default() },
         Material { kd: wall_kd, ..Default::default() },
@@ -133,8 +134,11 @@ fn landing_x(scene: &TraceScene, ray: &Ray, light: Vec3) -> f32 {
 fn glass_slab_shifts_a_ray_by_the_analytic_lateral_offset() {
     let (d, ior) = (1.0f32, 1.5f32);
     let light = Vec3::new(-5.0, 0.0, 4.0);
-    let detector = object(Shape::Plane { point: Vec3::new(0.0, 0.0, 5.0), normal: -Vec3::Z }, 0);
-    let slab = object(Shape::Cuboid { min: Vec3::new(-50.0, -50.0, 0.0), max: Vec3::new(50.0, 50.0, d) }, 1);
+    let detector = object(Shape::Plane { point: DVec3::new(0.0, 0.0, 5.0), normal: -Vec3::Z }, 0);
+    let slab = object(
+        Shape::Cuboid { min: DVec3::new(-50.0, -50.0, 0.0), max: DVec3::new(50.0, 50.0, f64::from(d)) },
+        1,
+    );
     let materials = vec![
         Material { kd: Vec3::ONE, ..Default::default() },
         Material { kd: Vec3::ZERO, kt: 1.0, ior, ..Default::default() },
@@ -173,9 +177,9 @@ fn total_internal_reflection_past_the_critical_angle() {
     let critical = (1.0 / ior).asin().to_degrees();
     assert!((critical - 41.81).abs() < 0.01);
     let block =
-        object(Shape::Cuboid { min: Vec3::new(-10.0, -10.0, 0.0), max: Vec3::new(1.0, 10.0, 1.0) }, 0);
-    let red_wall = object(Shape::Plane { point: Vec3::new(0.0, 0.0, 1.2), normal: -Vec3::Z }, 1);
-    let green_wall = object(Shape::Plane { point: Vec3::new(3.0, 0.0, 0.0), normal: -Vec3::X }, 2);
+        object(Shape::Cuboid { min: DVec3::new(-10.0, -10.0, 0.0), max: DVec3::new(1.0, 10.0, 1.0) }, 0);
+    let red_wall = object(Shape::Plane { point: DVec3::new(0.0, 0.0, 1.2), normal: -Vec3::Z }, 1);
+    let green_wall = object(Shape::Plane { point: DVec3::new(3.0, 0.0, 0.0), normal: -Vec3::X }, 2);
     let (red, green) = (Vec3::new(0.9, 0.1, 0.1), Vec3::new(0.1, 0.8, 0.2));
     let materials = vec![
         Material { kd: Vec3::ZERO, kt: 1.0, ior, ..Default::default() },

@@ -342,7 +342,7 @@ fn every_effect_on_gives_identical_bytes_on_one_and_two_threads() {
     d.camera.lens.samples = 2;
     d.settings.aa.samples = 2;
     d.lights.push(penumbra::scene::LightDesc::Disk {
-        centre: Vec3::new(2.0, 4.0, -1.0),
+        centre: glam::DVec3::new(2.0, 4.0, -1.0),
         normal: Vec3::NEG_Y,
         radius: 0.5,
         colour: Vec3::ONE,

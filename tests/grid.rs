@@ -8,6 +8,7 @@
 mod common;
 
 use common::{point_in, rng, unit_vector};
+use glam::{DAffine3, DVec3};
 use penumbra::accel::UniformGrid;
 use penumbra::geom::Placed;
 use penumbra::math::{Aabb, Ray, Vec3};
@@ -445,7 +446,8 @@ fn objects_all_at_one_point_trace_like_brute_force() {
     for _ in 0..20 {
         let vertices = [p, p + unit_vector(&mut r) * 0.1, p + unit_vector(&mut r) * 0.1];
         objects.push(PlacedObject {
-            geometry: penumbra::geom::Shape::Triangle { vertices }.place(&penumbra::math::Affine3A::IDENTITY),
+            geometry: penumbra::geom::Shape::Triangle { vertices: vertices.map(Vec3::as_dvec3) }
+                .place(&DAffine3::IDENTITY, DVec3::ZERO),
             material: penumbra::store::MaterialId(0),
         });
     }
@@ -463,18 +465,21 @@ fn flat_scene_in_one_plane_keeps_a_small_grid_and_traces_like_brute_force() {
         let flat = |v: Vec3| Vec3::new(v.x, v.y, 0.0);
         let shape = match i % 3 {
             0 => penumbra::geom::Shape::Triangle {
-                vertices: [c, c + flat(unit_vector(&mut r)), c + flat(unit_vector(&mut r))],
+                vertices: [c, c + flat(unit_vector(&mut r)), c + flat(unit_vector(&mut r))]
+                    .map(Vec3::as_dvec3),
             },
             1 => penumbra::geom::Shape::Polygon {
-                vertices: vec![c, c + Vec3::X, c + Vec3::new(1.0, 1.0, 0.0), c + Vec3::Y],
+                vertices: [c, c + Vec3::X, c + Vec3::new(1.0, 1.0, 0.0), c + Vec3::Y]
+                    .map(Vec3::as_dvec3)
+                    .to_vec(),
             },
             _ => penumbra::geom::Shape::Cuboid {
-                min: c - Vec3::new(0.3, 0.2, 0.0),
-                max: c + Vec3::new(0.3, 0.2, 0.0),
+                min: (c - Vec3::new(0.3, 0.2, 0.0)).as_dvec3(),
+                max: (c + Vec3::new(0.3, 0.2, 0.0)).as_dvec3(),
             },
         };
         objects.push(PlacedObject {
-            geometry: shape.place(&penumbra::math::Affine3A::IDENTITY),
+            geometry: shape.place(&DAffine3::IDENTITY, DVec3::ZERO),
             material: penumbra::store::MaterialId(0),
         });
     }
@@ -503,7 +508,7 @@ fn wall_aligned_scene(seed: u64, n: usize) -> (TraceScene, Vec<PlacedObject>, Ve
                 let lo = [0, 1, 2].map(|a| inner(&mut r, a));
                 let min = Vec3::new(g.plane(0, lo[0]), g.plane(1, lo[1]), g.plane(2, lo[2]));
                 let max = Vec3::new(g.plane(0, lo[0] + 1), g.plane(1, lo[1] + 2), g.plane(2, lo[2] + 1));
-                penumbra::geom::Shape::Cuboid { min, max }
+                penumbra::geom::Shape::Cuboid { min: min.as_dvec3(), max: max.as_dvec3() }
             }
             1 => {
                 let a = r.random_range(0..3);
@@ -513,7 +518,7 @@ fn wall_aligned_scene(seed: u64, n: usize) -> (TraceScene, Vec<PlacedObject>, Ve
                 for v in &mut vertices {
                     v[a] = w;
                 }
-                penumbra::geom::Shape::Triangle { vertices }
+                penumbra::geom::Shape::Triangle { vertices: vertices.map(Vec3::as_dvec3) }
             }
             _ => {
                 let a = r.random_range(0..3);
@@ -525,11 +530,11 @@ fn wall_aligned_scene(seed: u64, n: usize) -> (TraceScene, Vec<PlacedObject>, Ve
                 let mut top = centre;
                 top[a] += side * radius;
                 tangent_points.push(top);
-                penumbra::geom::Shape::Sphere { centre, radius }
+                penumbra::geom::Shape::Sphere { centre: centre.as_dvec3(), radius }
             }
         };
         objects.push(PlacedObject {
-            geometry: shape.place(&penumbra::math::Affine3A::IDENTITY),
+            geometry: shape.place(&DAffine3::IDENTITY, DVec3::ZERO),
             material: penumbra::store::MaterialId(0),
         });
     }

@@ -48,14 +48,14 @@ fn tables() -> SceneTables {
 }
 
 fn placed(shape: Shape, to_world: Affine3A) -> PlacedObject {
-    PlacedObject { geometry: shape.place(&to_world), material: MaterialId(0) }
+    PlacedObject { geometry: shape.place(&to_world.as_daffine3(), DVec3::ZERO), material: MaterialId(0) }
 }
 
 /// A unit sphere at the origin, with a far-away small sphere so the grid has several cells.
 fn sphere_scene() -> Arc<TraceScene> {
     let objects = [
-        placed(Shape::Sphere { centre: Vec3::ZERO, radius: 1.0 }, Affine3A::IDENTITY),
-        placed(Shape::Sphere { centre: Vec3::splat(6.0), radius: 0.5 }, Affine3A::IDENTITY),
+        placed(Shape::Sphere { centre: DVec3::ZERO, radius: 1.0 }, Affine3A::IDENTITY),
+        placed(Shape::Sphere { centre: DVec3::splat(6.0), radius: 0.5 }, Affine3A::IDENTITY),
     ];
     Arc::new(TraceScene::build(&objects, tables(), 8.0))
 }
@@ -63,8 +63,8 @@ fn sphere_scene() -> Arc<TraceScene> {
 /// The box [-1, 1]³ and a far sphere.
 fn box_scene() -> Arc<TraceScene> {
     let objects = [
-        placed(Shape::Cuboid { min: Vec3::splat(-1.0), max: Vec3::ONE }, Affine3A::IDENTITY),
-        placed(Shape::Sphere { centre: Vec3::splat(6.0), radius: 0.5 }, Affine3A::IDENTITY),
+        placed(Shape::Cuboid { min: DVec3::splat(-1.0), max: DVec3::ONE }, Affine3A::IDENTITY),
+        placed(Shape::Sphere { centre: DVec3::splat(6.0), radius: 0.5 }, Affine3A::IDENTITY),
     ];
     Arc::new(TraceScene::build(&objects, tables(), 8.0))
 }
@@ -75,7 +75,7 @@ fn mesh_scene() -> Arc<TraceScene> {
     let shape = Shape::Mesh { mesh: MeshId(0), bounds: asset.data.bounds };
     let objects = [
         placed(shape, Affine3A::IDENTITY),
-        placed(Shape::Sphere { centre: Vec3::splat(6.0), radius: 0.5 }, Affine3A::IDENTITY),
+        placed(Shape::Sphere { centre: DVec3::splat(6.0), radius: 0.5 }, Affine3A::IDENTITY),
     ];
     Arc::new(TraceScene::build_with_meshes(&objects, &[asset], tables(), 8.0))
 }
@@ -86,7 +86,7 @@ fn lattice_scene() -> Arc<TraceScene> {
     for z in 0..4 {
         for y in 0..4 {
             for x in 0..4 {
-                let centre = Vec3::new(x as f32, y as f32, z as f32);
+                let centre = DVec3::new(x as f64, y as f64, z as f64);
                 objects.push(placed(Shape::Sphere { centre, radius: 0.3 }, Affine3A::IDENTITY));
             }
         }
@@ -481,7 +481,7 @@ fn secondary_rays_leave_tiny_and_huge_spheres_without_acne() {
     // integrator starts it, into the outer hemisphere, never hits the sphere it left.
     for radius in [1e-4f32, 1.0, 1e4] {
         let centre = Vec3::new(0.3, -0.2, 0.1) * radius * 3.0;
-        let objects = [placed(Shape::Sphere { centre, radius }, Affine3A::IDENTITY)];
+        let objects = [placed(Shape::Sphere { centre: centre.as_dvec3(), radius }, Affine3A::IDENTITY)];
         let mut tables = tables();
         tables.camera = Camera::look_at(centre - Vec3::Z * radius * 10.0, centre, Vec3::Y, 0.8);
         let scene: TraceScene = TraceScene::build(&objects, tables, 2.0);
@@ -513,17 +513,17 @@ fn the_default_scene_scaled_by_powers_of_ten_renders_the_same_image() {
     use penumbra::world::SceneWorld;
     let image = |k: f32| {
         let mut desc = default_scene();
-        desc.camera.position *= k;
-        desc.camera.look_at *= k;
+        desc.camera.position *= f64::from(k);
+        desc.camera.look_at *= f64::from(k);
         desc.camera.width = 160;
         desc.camera.height = 120;
         for o in &mut desc.objects {
-            o.transform.translate *= k;
+            o.transform.translate *= f64::from(k);
             o.transform.scale *= k;
         }
         for l in &mut desc.lights {
             if let LightDesc::Point { position, .. } = l {
-                *position *= k;
+                *position *= f64::from(k);
             }
         }
         let mut world: SceneWorld = spawn_world(&desc);

@@ -3,9 +3,10 @@
 
 mod common;
 
+use glam::{DAffine3, DVec3};
 use penumbra::camera::Camera;
 use penumbra::geom::Shape;
-use penumbra::math::{Affine3A, Vec3};
+use penumbra::math::Vec3;
 use penumbra::scene::{load_scene, spawn_world};
 use penumbra::store::{MaterialId, PlacedObject};
 use penumbra::trace::{render, Light, Material, RenderSettings, SceneTables, TraceScene};
@@ -67,12 +68,13 @@ fn a_closed_mirror_box_never_brightens_the_light_it_carries() {
         };
         let objects = [
             PlacedObject {
-                geometry: Shape::Sphere { centre: Vec3::ZERO, radius: 0.6 }.place(&Affine3A::IDENTITY),
+                geometry: Shape::Sphere { centre: DVec3::ZERO, radius: 0.6 }
+                    .place(&DAffine3::IDENTITY, DVec3::ZERO),
                 material: MaterialId(0),
             },
             PlacedObject {
-                geometry: Shape::Cuboid { min: Vec3::splat(-2.0), max: Vec3::splat(2.0) }
-                    .place(&Affine3A::IDENTITY),
+                geometry: Shape::Cuboid { min: DVec3::splat(-2.0), max: DVec3::splat(2.0) }
+                    .place(&DAffine3::IDENTITY, DVec3::ZERO),
                 material: MaterialId(1),
             },
         ];

@@ -6,6 +6,7 @@ mod common;
 use std::sync::Arc;
 
 use common::{point_in, rng, unit_vector};
+use glam::{DAffine3, DVec3};
 use penumbra::camera::Camera;
 use penumbra::film::encode_srgb8;
 use penumbra::geom::mesh::{icosphere, MeshData};
@@ -59,11 +60,14 @@ fn a_tessellated_sphere_with_smooth_normals_matches_the_analytic_sphere_within_2
     let mesh = asset(icosphere(Vec3::ZERO, 1.0, 5));
     let inst = Shape::Mesh { mesh: MeshId(0), bounds: mesh.data.bounds };
     let placed = |shape: Shape| {
-        vec![PlacedObject { geometry: shape.place(&Affine3A::IDENTITY), material: MaterialId(0) }]
+        vec![PlacedObject {
+            geometry: shape.place(&DAffine3::IDENTITY, DVec3::ZERO),
+            material: MaterialId(0),
+        }]
     };
     let tess: TraceScene = TraceScene::build_with_meshes(&placed(inst), &[mesh], tables.clone(), 2.0);
     let exact: TraceScene =
-        TraceScene::build(&placed(Shape::Sphere { centre: Vec3::ZERO, radius: 1.0 }), tables, 2.0);
+        TraceScene::build(&placed(Shape::Sphere { centre: DVec3::ZERO, radius: 1.0 }), tables, 2.0);
     let (w, h) = (160, 160);
     let a = encode_srgb8(&render(&tess, &settings(w, h)).0);
     let b = encode_srgb8(&render(&exact, &settings(w, h)).0);
@@ -99,7 +103,10 @@ fn at_a_vertex_the_shading_normal_is_the_files_normal() {
     let inst = Shape::Mesh { mesh: MeshId(0), bounds: mesh.data.bounds };
     let to_world =
         Affine3A::from_scale_rotation_translation(Vec3::splat(2.0), Quat::from_rotation_y(0.3), Vec3::X);
-    let objects = vec![PlacedObject { geometry: inst.place(&to_world), material: MaterialId(0) }];
+    let objects = vec![PlacedObject {
+        geometry: inst.place(&to_world.as_daffine3(), DVec3::ZERO),
+        material: MaterialId(0),
+    }];
     let scene: TraceScene = TraceScene::build_with_meshes(&objects, &[mesh], lit_tables(Vec3::Z * 5.0), 2.0);
     let normal_map = to_world.matrix3.inverse().transpose();
     for (k, &p) in data.positions.iter().enumerate() {
@@ -177,12 +184,18 @@ fn instanced_scene<S: PrimitiveStore>(seed: u64) -> TraceScene<S> {
             point_in(&mut rng, Vec3::splat(-6.0), Vec3::splat(6.0)),
         );
         let shape = Shape::Mesh { mesh: MeshId(m as u32), bounds: meshes[m].data.bounds };
-        objects.push(PlacedObject { geometry: shape.place(&to_world), material: MaterialId(0) });
+        objects.push(PlacedObject {
+            geometry: shape.place(&to_world.as_daffine3(), DVec3::ZERO),
+            material: MaterialId(0),
+        });
     }
     for _ in 0..10 {
         let centre = point_in(&mut rng, Vec3::splat(-6.0), Vec3::splat(6.0));
-        let shape = Shape::Sphere { centre, radius: rng.random_range(0.2..0.8) };
-        objects.push(PlacedObject { geometry: shape.place(&Affine3A::IDENTITY), material: MaterialId(0) });
+        let shape = Shape::Sphere { centre: centre.as_dvec3(), radius: rng.random_range(0.2..0.8) };
+        objects.push(PlacedObject {
+            geometry: shape.place(&DAffine3::IDENTITY, DVec3::ZERO),
+            material: MaterialId(0),
+        });
     }
     TraceScene::build_with_meshes(&objects, &meshes, lit_tables(Vec3::Z * 20.0), 2.0)
 }
@@ -243,7 +256,7 @@ fn moving_an_instance_rebuilds_only_the_top_level_and_the_image_shows_it() {
     let (image_before, _) = render(&before, &s);
     assert_eq!(world.grid_rebuilds(), 1);
     let bunny = world.entity("bunny").unwrap();
-    world.world_mut().get_mut::<Transform>(bunny).unwrap().translation += Vec3::new(0.6, 0.0, 0.0);
+    world.world_mut().get_mut::<Transform>(bunny).unwrap().translation += DVec3::new(0.6, 0.0, 0.0);
     let after = world.update();
     assert_eq!(world.grid_rebuilds(), 2, "the top-level grid is rebuilt once");
     // The mesh level is untouched: the same laid-out triangles and the same mesh grid.

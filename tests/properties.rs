@@ -60,7 +60,7 @@ proptest! {
     ) {
         let mesh = strategies::sphere_mesh();
         let shape = penumbra::geom::Shape::Mesh { mesh: penumbra::geom::MeshId(0), bounds: mesh.data.bounds };
-        let objects = [PlacedObject { geometry: shape.place(&to_world), material: MaterialId(0) }];
+        let objects = [PlacedObject { geometry: shape.place(&to_world.as_daffine3(), glam::DVec3::ZERO), material: MaterialId(0) }];
         let scene: TraceScene = TraceScene::build_with_meshes(&objects, &[mesh], common::simple_tables(), 2.0);
         // A line through a point near the instance, traced from 40 units away both ways.
         let (p, d) = (to_world.transform_point3(line.0 * 0.5), line.1);

@@ -4,13 +4,14 @@
 
 use std::time::Duration;
 
+use glam::DVec3;
 use penumbra::film::Film;
 use penumbra::math::Vec3;
 use penumbra::scene::{self, SceneDesc};
 use penumbra::script::{Animation, Clock, ErrorKind, Limit, Limits, Script, ScriptError, ScriptedWorld};
 use penumbra::trace::render;
 use penumbra::world::components::MaterialRef;
-use penumbra::world::resources::Materials;
+use penumbra::world::resources::{CameraRig, Materials};
 use penumbra::world::SceneWorld;
 
 const SCENE: &str = r#"Scene(
@@ -264,12 +265,14 @@ fn every_property_reads_back_what_was_written() {
     assert_eq!((settings.aa.sampling.samples, settings.lens.samples, settings.glossy.samples), (3, 5, 7));
     assert!(settings.adaptive.is_none());
     let camera = snapshot.camera;
-    assert_eq!(camera.position, Vec3::new(1.0, 2.0, -7.0));
+    let rig = *world.world().world().resource::<CameraRig>();
+    assert_eq!((rig.position, rig.look_at), (DVec3::new(1.0, 2.0, -7.0), DVec3::new(0.0, 1.0, 0.0)));
+    assert_eq!(camera.position, Vec3::ZERO, "the snapshot is relative to the camera");
     assert_eq!((camera.aperture, camera.focus_distance), (0.05, 6.5));
     assert!((camera.fov_y.to_degrees() - 35.5).abs() < 1e-4);
     let ball = world.world_mut().entity("ball").unwrap();
     let transform = *world.world().world().get::<penumbra::world::components::Transform>(ball).unwrap();
-    assert_eq!(transform.translation, Vec3::new(0.25, 1.5, -0.75));
+    assert_eq!(transform.translation, DVec3::new(0.25, 1.5, -0.75));
     assert_eq!(transform.scale, Vec3::splat(1.25));
     assert!(snapshot.object_names.iter().all(|n| n != "ball"), "the hidden ball is not in the snapshot");
 }
@@ -280,7 +283,8 @@ fn the_clock_gives_frame_time_and_fps() {
     let mut world = scripted(source);
     world.setup().unwrap();
     world.frame(Clock::at(36, 24.0)).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(world.update().camera.position, Vec3::new(0.0, 2.0, -6.0));
+    world.update();
+    assert_eq!(world.world().world().resource::<CameraRig>().position, DVec3::new(0.0, 2.0, -6.0));
     assert_eq!(world.world().render_settings().frame, 36, "the frame number keys the samples");
 }
 
@@ -349,7 +353,9 @@ fn a_frame_is_the_same_whether_the_range_starts_at_zero_or_at_it() {
 #[test]
 fn the_grid_is_rebuilt_exactly_on_the_frames_where_something_moved() {
     // Frames 0, 1 and 3 write the ball's current position back (no change); 2 and 4 move it.
-    // The camera and a material change every frame, which never needs the grid.
+    // A material changes every frame, which never needs the grid. The camera is written every
+    // frame but moves only at 5: snapshots are relative to the camera, so a moving camera
+    // places the geometry anew and rebuilds the grid.
     let source = r#"
         fn frame(t) {
             let n = frame_number();
@@ -357,14 +363,14 @@ fn the_grid_is_rebuilt_exactly_on_the_frames_where_something_moved() {
             b.position = vec3(-1.0 + (if n >= 4 { 2.0 } else if n >= 2 { 1.0 } else { 0.0 }), 0.8, 0.0);
             let crate = entity("crate");
             crate.rotation = vec3(0, 0, 0);
-            camera.position = vec3(0.1 * t, 2, -6);
+            camera.position = vec3(if n >= 5 { 0.1 } else { 0.0 }, 2, -6);
             let twin = entity("twin");
             twin.ks = 0.1 * n;
         }
     "#;
-    let frames = animate(source, &[0, 1, 2, 3, 4]);
+    let frames = animate(source, &[0, 1, 2, 3, 4, 5]);
     let rebuilds: Vec<u64> = frames.iter().map(|(_, r)| *r).collect();
-    assert_eq!(rebuilds, [1, 1, 2, 2, 3], "the first frame builds; 2 and 4 rebuild");
+    assert_eq!(rebuilds, [1, 1, 2, 2, 3, 4], "the first frame builds; 2 and 4 rebuild, and 5 (camera)");
 }
 
 #[test]

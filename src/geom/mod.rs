@@ -3,6 +3,13 @@
 //!
 //! Intersections return the ray parameter of the nearest hit strictly inside `(t_min, t_max)`.
 //! Rays are unit length in world space.
+//!
+//! Two precisions meet here. A [`Shape`] is authored geometry: its positions (a sphere's
+//! centre, a plane's point, vertices, a box's corners) are `f64`, like the transforms that
+//! place it, so that a scene far from the origin keeps its detail. [`Shape::place`] computes
+//! the world geometry in `f64`, subtracts the frame's origin (the camera position) and rounds
+//! once to `f32`: a [`Placed`] shape is camera-relative, and that is what the grid, the stores
+//! and the tracer read. Mesh assets stay `f32` in their own object space.
 
 pub mod cuboid;
 pub mod mesh;
@@ -11,41 +18,43 @@ pub mod polygon;
 pub mod sphere;
 pub mod triangle;
 
+use glam::{DAffine3, DVec3};
+
 use crate::math::{Aabb, Affine3A, Vec3};
 
-/// Geometry of an object in object space, in engine units.
+/// Geometry of an object in object space, in engine units; positions in `f64`.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Shape {
     /// Sphere with centre and radius.
     Sphere {
         /// Centre.
-        centre: Vec3,
+        centre: DVec3,
         /// Radius (> 0).
         radius: f32,
     },
     /// Infinite plane through `point` with (non-zero) `normal`.
     Plane {
         /// A point on the plane.
-        point: Vec3,
+        point: DVec3,
         /// Normal, any non-zero length.
         normal: Vec3,
     },
     /// One triangle.
     Triangle {
         /// Corners, counter-clockwise from the front.
-        vertices: [Vec3; 3],
+        vertices: [DVec3; 3],
     },
     /// Convex planar polygon, corners in order.
     Polygon {
         /// Corners.
-        vertices: Vec<Vec3>,
+        vertices: Vec<DVec3>,
     },
     /// Axis-aligned box in object space.
     Cuboid {
         /// Minimum corner.
-        min: Vec3,
+        min: DVec3,
         /// Maximum corner.
-        max: Vec3,
+        max: DVec3,
     },
     /// An instance of a triangle mesh asset (shared by every instance of it).
     Mesh {
@@ -60,7 +69,8 @@ pub enum Shape {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
 pub struct MeshId(pub u32);
 
-/// Geometry placed in the world: what the grid indexes and the snapshot flattens.
+/// Geometry placed in the world, relative to the frame's origin (see [`Shape::place`]): what
+/// the grid indexes and the snapshot flattens.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Placed {
     /// World-space sphere.
@@ -103,37 +113,97 @@ pub enum Placed {
     },
 }
 
+/// A box whose centre is further than this many times its size from its object-space origin
+/// is placed by its centre (see [`Shape::place`]).
+pub const FAR_BOX: f64 = 16.0;
+
 impl Shape {
-    /// The shape placed by an object-to-world map. Spheres use the map's x scale (scenes are
-    /// validated to scale spheres uniformly).
-    pub fn place(&self, to_world: &Affine3A) -> Placed {
+    /// The shape placed by an object-to-world map, relative to `origin`: world positions are
+    /// computed in `f64`, `origin` is subtracted, and the result is rounded once to `f32`, so
+    /// detail near `origin` survives however far it lies from the world's origin. Spheres use
+    /// the map's x scale (scenes are validated to scale spheres uniformly). Boxes and mesh
+    /// instances get their maps with `origin` taken off the translation, inverted in `f64`; a
+    /// box whose centre lies more than [`FAR_BOX`] times its size from its object-space origin
+    /// is placed by its centre (the map carries the centre, the corners become `±half`
+    /// extent), so its intersections run near it.
+    ///
+    /// # Examples
+    /// ```
+    /// # use glam::{DAffine3, DVec3};
+    /// # use penumbra::geom::{Placed, Shape};
+    /// let far = DVec3::new(1e6 + 0.01, 0.0, 0.0);
+    /// let ball = Shape::Sphere { centre: far, radius: 1.0 };
+    /// // In f32 at 1e6 the 0.01 would be lost (the step there is 1/16); relative to a nearby
+    /// // origin it is kept.
+    /// let Placed::Sphere { centre, .. } = ball.place(&DAffine3::IDENTITY, DVec3::new(1e6, 0.0, 0.0))
+    /// else { unreachable!() };
+    /// assert!((centre.x - 0.01).abs() < 1e-9 && centre.y == 0.0);
+    /// ```
+    pub fn place(&self, to_world: &DAffine3, origin: DVec3) -> Placed {
+        // The map into the frame: the world placement with the origin taken off its translation,
+        // in f64 (exact when the two are within a factor of two, as near the camera).
+        let to_frame = DAffine3 { translation: to_world.translation - origin, ..*to_world };
+        let relative = |p: DVec3| to_frame.transform_point3(p).as_vec3();
         match self {
             Shape::Sphere { centre, radius } => {
                 let scale = to_world.matrix3.x_axis.length();
-                Placed::Sphere { centre: to_world.transform_point3(*centre), radius: radius * scale }
+                Placed::Sphere { centre: relative(*centre), radius: (f64::from(*radius) * scale) as f32 }
             }
             Shape::Plane { point, normal } => {
                 let normal_map = to_world.matrix3.inverse().transpose();
-                let n: Vec3 = normal_map.mul_vec3a((*normal).into()).normalize().into();
-                let p = to_world.transform_point3(*point);
-                Placed::Plane { normal: n, offset: n.dot(p) }
+                let n = (normal_map * normal.as_dvec3()).normalize().as_vec3();
+                // The offset of the rounded normal, so the plane holds the placed point.
+                let offset = n.as_dvec3().dot(to_frame.transform_point3(*point));
+                Placed::Plane { normal: n, offset: offset as f32 }
             }
-            Shape::Triangle { vertices } => {
-                Placed::Triangles(polygon::fan(&vertices.map(|v| to_world.transform_point3(v))))
-            }
+            Shape::Triangle { vertices } => Placed::Triangles(polygon::fan(&vertices.map(relative))),
             Shape::Polygon { vertices } => {
-                let world: Vec<Vec3> = vertices.iter().map(|&v| to_world.transform_point3(v)).collect();
-                Placed::Triangles(polygon::fan(&world))
+                let placed: Vec<Vec3> = vertices.iter().map(|&v| relative(v)).collect();
+                Placed::Triangles(polygon::fan(&placed))
             }
             Shape::Cuboid { min, max } => {
-                Placed::Cuboid { to_object: to_world.inverse(), to_world: *to_world, min: *min, max: *max }
+                // A box authored far from its own origin is placed by its centre, so that its
+                // intersections run near it; one authored around its origin keeps its corners.
+                let centre = 0.5 * (*min + *max);
+                let far = centre.abs().max_element() > FAR_BOX * (*max - *min).max_element();
+                let (to_frame, pivot) = match far {
+                    true => (to_frame * DAffine3::from_translation(centre), centre),
+                    false => (to_frame, DVec3::ZERO),
+                };
+                Placed::Cuboid {
+                    to_object: to_frame.inverse().as_affine3a(),
+                    to_world: to_frame.as_affine3a(),
+                    min: (*min - pivot).as_vec3(),
+                    max: (*max - pivot).as_vec3(),
+                }
             }
-            Shape::Mesh { mesh, bounds } => Placed::Instance {
-                mesh: *mesh,
-                to_object: to_world.inverse(),
-                to_world: *to_world,
-                bounds: transform_bounds(to_world, bounds),
-            },
+            Shape::Mesh { mesh, bounds } => {
+                let to_world = to_frame.as_affine3a();
+                Placed::Instance {
+                    mesh: *mesh,
+                    to_object: to_frame.inverse().as_affine3a(),
+                    to_world,
+                    bounds: transform_bounds(&to_world, bounds),
+                }
+            }
+        }
+    }
+
+    /// Object-space bounds as `(min, max)` in `f64`; `None` for a plane.
+    pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        let span = |points: &mut dyn Iterator<Item = DVec3>| {
+            points.fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| (lo.min(p), hi.max(p)))
+        };
+        match self {
+            Shape::Sphere { centre, radius } => {
+                let r = DVec3::splat(f64::from(*radius));
+                Some((*centre - r, *centre + r))
+            }
+            Shape::Plane { .. } => None,
+            Shape::Triangle { vertices } => Some(span(&mut vertices.iter().copied())),
+            Shape::Polygon { vertices } => Some(span(&mut vertices.iter().copied())),
+            Shape::Cuboid { min, max } => Some((*min, *max)),
+            Shape::Mesh { bounds, .. } => Some((bounds.min.as_dvec3(), bounds.max.as_dvec3())),
         }
     }
 }

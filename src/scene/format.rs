@@ -36,10 +36,13 @@
 //! ```
 //!
 //! Vectors and colours are RON tuples `(x, y, z)`; integers are accepted where floats are
-//! expected. Colours are linear RGB. Sample patterns ([`Pattern`]) and filters ([`Filter`])
+//! expected. Positions (the camera's `position`, `look_at` and `focus_on`, lights' `position`,
+//! `corner` and `centre`, shapes' points and `transform.translate`) are 64-bit floats, so
+//! `1000000.1` keeps every digit; the renderer subtracts the camera position before rounding
+//! to 32 bits. Directions, sizes, angles and colours are 32-bit. Colours are linear RGB. Sample patterns ([`Pattern`]) and filters ([`Filter`])
 //! are the sampler's own types, written as bare names.
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use serde::{Deserialize, Deserializer};
 
 pub use crate::film::{ToneMapping, ToneOperator};
@@ -71,9 +74,9 @@ pub struct SceneDesc {
 #[serde(deny_unknown_fields)]
 pub struct CameraDesc {
     /// Eye position.
-    pub position: Vec3,
+    pub position: DVec3,
     /// Point the camera looks at; must differ from `position`.
-    pub look_at: Vec3,
+    pub look_at: DVec3,
     /// Up direction; must not be parallel to the view direction. Default `(0, 1, 0)`.
     #[serde(default = "default_up")]
     pub up: Vec3,
@@ -93,7 +96,7 @@ pub struct CameraDesc {
     /// A point to focus on: the focus distance is its depth along the view direction, so it
     /// must lie in front of the camera. Exclusive with `focus_distance`. Default none.
     #[serde(default)]
-    pub focus_on: Option<Vec3>,
+    pub focus_on: Option<DVec3>,
     /// Lens samples per camera sample, used only when `aperture` > 0. Default 1, `Jittered`.
     #[serde(default)]
     pub lens: SamplingDesc,
@@ -275,7 +278,7 @@ pub enum LightDesc {
     /// A point light with no distance falloff (as in classic Phong and POV-Ray).
     Point {
         /// Position.
-        position: Vec3,
+        position: DVec3,
         /// Linear RGB colour, each channel ≥ 0. Default white.
         #[serde(default = "default_colour")]
         colour: Vec3,
@@ -298,7 +301,7 @@ pub enum LightDesc {
     /// to both sides and invisible to camera rays; colour × intensity is spread over the samples.
     Rect {
         /// One corner.
-        corner: Vec3,
+        corner: DVec3,
         /// First edge from `corner`; non-zero.
         edge_u: Vec3,
         /// Second edge from `corner`; non-zero and not parallel to `edge_u`.
@@ -320,7 +323,7 @@ pub enum LightDesc {
     /// intensity is spread over the samples.
     Disk {
         /// Centre.
-        centre: Vec3,
+        centre: DVec3,
         /// Normal of the disk's plane; non-zero.
         normal: Vec3,
         /// Radius, > 0.
@@ -363,34 +366,34 @@ pub enum ShapeDesc {
     /// A sphere; `radius` > 0.
     Sphere {
         /// Centre.
-        centre: Vec3,
+        centre: DVec3,
         /// Radius, > 0.
         radius: f32,
     },
     /// An infinite plane through `point` with the given (non-zero) normal.
     Plane {
         /// Any point on the plane.
-        point: Vec3,
+        point: DVec3,
         /// Normal; need not be unit length, must be non-zero.
         normal: Vec3,
     },
     /// A single triangle; must have non-zero area.
     Triangle {
         /// The three corners, counter-clockwise seen from the front.
-        vertices: [Vec3; 3],
+        vertices: [DVec3; 3],
     },
     /// A convex planar polygon of at least three vertices, in order around its boundary.
     Polygon {
         /// The corners in order.
-        vertices: Vec<Vec3>,
+        vertices: Vec<DVec3>,
     },
     /// An axis-aligned box (in object space; a rotation in `transform` orients it).
     #[serde(rename = "Box")]
     Cuboid {
         /// Minimum corner.
-        min: Vec3,
+        min: DVec3,
         /// Maximum corner; strictly greater than `min` on every axis.
-        max: Vec3,
+        max: DVec3,
     },
     /// A triangle mesh from a Wavefront OBJ file, placed by the object's `transform`. Every
     /// object naming the same file (and `smooth`) shares one copy of it and one grid.
@@ -427,7 +430,7 @@ impl ShapeDesc {
 #[serde(default, deny_unknown_fields)]
 pub struct TransformDesc {
     /// Translation.
-    pub translate: Vec3,
+    pub translate: DVec3,
     /// Rotation in degrees about X, then Y, then Z.
     pub rotate_deg: Vec3,
     /// Per-axis scale, each non-zero; spheres require a uniform scale.
@@ -436,7 +439,7 @@ pub struct TransformDesc {
 
 impl Default for TransformDesc {
     fn default() -> Self {
-        Self { translate: Vec3::ZERO, rotate_deg: Vec3::ZERO, scale: Vec3::ONE }
+        Self { translate: DVec3::ZERO, rotate_deg: Vec3::ZERO, scale: Vec3::ONE }
     }
 }
 

@@ -135,7 +135,7 @@ fn beyond(p: DVec3) -> Option<(&'static str, f64)> {
 /// The lens rule for a camera whose fields are each valid; the path is relative to the camera
 /// (`aperture`, `focus_distance`).
 pub fn lens_violation(camera: &CameraDesc) -> Option<Violation> {
-    let position = camera.position.as_dvec3();
+    let position = camera.position;
     let aperture = f64::from(camera.aperture);
     if aperture > 0.0 {
         let reach = position.abs() + DVec3::splat(aperture);
@@ -150,7 +150,7 @@ pub fn lens_violation(camera: &CameraDesc) -> Option<Violation> {
         }
     }
     if let Some(distance) = camera.focus_distance {
-        let forward = (camera.look_at.as_dvec3() - position).normalize_or_zero();
+        let forward = (camera.look_at - position).normalize_or_zero();
         let focus = position + forward * f64::from(distance);
         if let Some((axis, c)) = beyond(focus) {
             let rule = format!(
@@ -306,12 +306,12 @@ impl Extent {
     pub fn of(shape: &ShapeDesc, meshes: &MeshLibrary) -> Option<Self> {
         Some(match shape {
             ShapeDesc::Sphere { centre, radius } => {
-                Self::Ball { centre: centre.as_dvec3(), radius: f64::from(*radius) }
+                Self::Ball { centre: *centre, radius: f64::from(*radius) }
             }
-            ShapeDesc::Plane { point, .. } => Self::Plane(point.as_dvec3()),
-            ShapeDesc::Triangle { vertices } => Self::Points(vertices.iter().map(|v| v.as_dvec3()).collect()),
-            ShapeDesc::Polygon { vertices } => Self::Points(vertices.iter().map(|v| v.as_dvec3()).collect()),
-            ShapeDesc::Cuboid { min, max } => Self::corners(min.as_dvec3(), max.as_dvec3()),
+            ShapeDesc::Plane { point, .. } => Self::Plane(*point),
+            ShapeDesc::Triangle { vertices } => Self::Points(vertices.to_vec()),
+            ShapeDesc::Polygon { vertices } => Self::Points(vertices.clone()),
+            ShapeDesc::Cuboid { min, max } => Self::corners(*min, *max),
             ShapeDesc::Mesh { file, smooth } => {
                 let (_, asset) = meshes.get(file, *smooth)?;
                 let b = asset.data.bounds;
@@ -367,11 +367,7 @@ pub struct Placement {
 impl Placement {
     /// The placement a scene transform describes.
     pub fn of(t: &TransformDesc) -> Self {
-        Self {
-            translate: t.translate.as_dvec3(),
-            rotate_deg: t.rotate_deg.as_dvec3(),
-            scale: t.scale.as_dvec3(),
-        }
+        Self { translate: t.translate, rotate_deg: t.rotate_deg.as_dvec3(), scale: t.scale.as_dvec3() }
     }
 
     fn rotation(&self) -> DQuat {
@@ -446,7 +442,7 @@ pub fn object_violation(object: &ObjectDesc, meshes: &MeshLibrary) -> Option<Vio
 pub fn light_extent_violation(light: &LightDesc) -> Option<Violation> {
     match *light {
         LightDesc::Rect { corner, edge_u, edge_v, .. } => {
-            let (c, u, v) = (corner.as_dvec3(), edge_u.as_dvec3(), edge_v.as_dvec3());
+            let (c, u, v) = (corner, edge_u.as_dvec3(), edge_v.as_dvec3());
             for (field, p) in [("edge_u", c + u), ("edge_v", c + v), ("edge_v", c + u + v)] {
                 if let Some((axis, value)) = beyond(p) {
                     let rule = format!(
@@ -460,7 +456,7 @@ pub fn light_extent_violation(light: &LightDesc) -> Option<Violation> {
             None
         }
         LightDesc::Disk { centre, radius, .. } => {
-            let reach = centre.as_dvec3().abs() + DVec3::splat(f64::from(radius));
+            let reach = centre.abs() + DVec3::splat(f64::from(radius));
             let (axis, value) = beyond(reach)?;
             let rule = format!(
                 "the disk (`centre` ± `radius`) must lie within ±{MAX_COORDINATE:e}, but it reaches \
@@ -481,7 +477,7 @@ mod tests {
     fn sphere(radius: f32, scale: f32) -> ObjectDesc {
         ObjectDesc {
             name: None,
-            shape: ShapeDesc::Sphere { centre: Vec3::ZERO, radius },
+            shape: ShapeDesc::Sphere { centre: DVec3::ZERO, radius },
             material: "m".into(),
             transform: TransformDesc { scale: Vec3::splat(scale), ..Default::default() },
         }
@@ -501,7 +497,7 @@ mod tests {
     #[test]
     fn a_translated_object_blames_its_translation() {
         let mut object = sphere(1e17, 1.0);
-        object.transform.translate = Vec3::new(0.0, 0.95e18, 0.0);
+        object.transform.translate = DVec3::new(0.0, 0.95e18, 0.0);
         let v = object_violation(&object, &MeshLibrary::default()).expect("beyond");
         assert_eq!(v.path.to_string(), "transform.translate");
         assert!(v.rule.contains("y = 1.05e18"), "{}", v.rule);
@@ -512,7 +508,7 @@ mod tests {
         let corner = 0.8e18;
         let object = ObjectDesc {
             name: None,
-            shape: ShapeDesc::Cuboid { min: Vec3::splat(-corner), max: Vec3::splat(corner) },
+            shape: ShapeDesc::Cuboid { min: DVec3::splat(-corner), max: DVec3::splat(corner) },
             material: "m".into(),
             transform: TransformDesc::default(),
         };
@@ -550,7 +546,7 @@ mod tests {
     fn the_brightest_light_is_named() {
         let mut scene = default_scene();
         scene.lights.push(LightDesc::Point {
-            position: Vec3::ZERO,
+            position: DVec3::ZERO,
             colour: Vec3::splat(10.0),
             intensity: 3e38,
         });

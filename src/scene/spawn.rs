@@ -1,5 +1,6 @@
 //! Spawning a validated [`SceneDesc`] into a bevy_ecs World: resources for the tables and
-//! settings, one entity per object and per light.
+//! settings, one entity per object and per light. Positions stay `f64`; the derived geometry
+//! is placed relative to the camera (see [`crate::world`]).
 
 use bevy_ecs::prelude::World;
 
@@ -7,12 +8,13 @@ use super::format::{LightDesc, MaterialDesc, SamplingDesc, SceneDesc, ShapeDesc}
 use super::mesh::MeshLibrary;
 use crate::accel::DEFAULT_LAMBDA;
 use crate::geom;
+use crate::math::Vec3;
 use crate::sample::adaptive::AdaptiveSettings;
 use crate::sample::warp::orthonormal_basis;
 use crate::store::{MaterialId, PrimitiveStore};
 use crate::trace::{self, AntiAliasing, Sampling};
 use crate::world::components::{Light, MaterialRef, Name, Shape, Transform, Visible, WorldAabb, WorldShape};
-use crate::world::resources::{CameraRig, Focus, Materials, MeshTable, SceneSettings};
+use crate::world::resources::{CameraRig, Focus, FrameOrigin, Materials, MeshTable, SceneSettings};
 use crate::world::SceneWorld;
 
 /// A World holding the scene: the caller has validated `desc` (see `super::load`).
@@ -68,7 +70,7 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
         };
         let t = &object.transform;
         let transform = Transform::from_scene(t.translate, t.rotate_deg, t.scale);
-        let placed = shape.place(&transform.to_affine());
+        let placed = shape.place(&transform.to_affine(), c.position);
         let aabb = placed.bounds().unwrap_or(crate::math::Aabb::EMPTY);
         // Validation guarantees the material exists; an unknown name falls back to id 0.
         let material = materials.id(&object.material).unwrap_or(MaterialId(0));
@@ -84,8 +86,9 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
         ));
     }
     for (i, light) in desc.lights.iter().enumerate() {
-        world.spawn((Name::new(format!("light_{i}")), Light(light_of(light)), Visible(true)));
+        world.spawn((Name::new(format!("light_{i}")), light_of(light), Visible(true)));
     }
+    world.insert_resource(FrameOrigin(c.position));
     world.insert_resource(materials);
     world.insert_resource(MeshTable(desc.meshes.assets()));
     SceneWorld::new(world)
@@ -108,6 +111,7 @@ pub fn shape_in(desc: &ShapeDesc, meshes: &MeshLibrary) -> Option<geom::Shape> {
 fn shape_of(desc: &ShapeDesc) -> geom::Shape {
     match desc {
         ShapeDesc::Mesh { .. } => geom::Shape::Polygon { vertices: Vec::new() },
+        // Positions stay f64: `geom::Shape::place` rounds them once, relative to the camera.
         ShapeDesc::Sphere { centre, radius } => geom::Shape::Sphere { centre: *centre, radius: *radius },
         ShapeDesc::Plane { point, normal } => geom::Shape::Plane { point: *point, normal: *normal },
         ShapeDesc::Triangle { vertices } => geom::Shape::Triangle { vertices: *vertices },
@@ -120,29 +124,42 @@ fn sampling(desc: &SamplingDesc) -> Sampling {
     Sampling { samples: desc.samples, pattern: desc.pattern }
 }
 
-/// Engine light of a light description: radiance is colour × intensity, directions unit length.
-pub fn light_of(desc: &LightDesc) -> trace::Light {
+/// The World's light of a light description: radiance is colour × intensity, directions unit
+/// length, and the position (point), corner (rectangle) or centre (disk) the light's `f64`
+/// anchor.
+pub fn light_of(desc: &LightDesc) -> Light {
     match *desc {
         LightDesc::Rect { corner, edge_u, edge_v, colour, intensity, samples, pattern } => {
-            trace::Light::Rect { corner, edge_u, edge_v, radiance: colour * intensity, samples, pattern }
+            let source = trace::Light::Rect {
+                corner: Vec3::ZERO,
+                edge_u,
+                edge_v,
+                radiance: colour * intensity,
+                samples,
+                pattern,
+            };
+            Light::at(corner, source)
         }
         LightDesc::Disk { centre, normal, radius, colour, intensity, samples, pattern } => {
             let (axis_u, axis_v) = orthonormal_basis(normal.normalize());
-            trace::Light::Disk {
-                centre,
+            let source = trace::Light::Disk {
+                centre: Vec3::ZERO,
                 axis_u,
                 axis_v,
                 radius,
                 radiance: colour * intensity,
                 samples,
                 pattern,
-            }
+            };
+            Light::at(centre, source)
         }
         LightDesc::Point { position, colour, intensity } => {
-            trace::Light::Point { position, radiance: colour * intensity }
+            Light::at(position, trace::Light::Point { position: Vec3::ZERO, radiance: colour * intensity })
         }
         LightDesc::Directional { direction, colour, intensity } => {
-            trace::Light::Directional { direction: direction.normalize(), radiance: colour * intensity }
+            let source =
+                trace::Light::Directional { direction: direction.normalize(), radiance: colour * intensity };
+            Light::at(glam::DVec3::ZERO, source)
         }
     }
 }

@@ -138,14 +138,14 @@ pub fn material_violation(material: &MaterialDesc) -> Option<Violation> {
 }
 
 fn camera(path: &FieldPath, camera: &CameraDesc) -> Check {
-    coordinate_vec(path, "position", camera.position)?;
-    coordinate_vec(path, "look_at", camera.look_at)?;
-    let view = camera.look_at.as_dvec3() - camera.position.as_dvec3();
+    position(path, "position", camera.position)?;
+    position(path, "look_at", camera.look_at)?;
+    let view = camera.look_at - camera.position;
     if view == DVec3::ZERO {
         return fail(
             path,
             "look_at",
-            format!("must differ from `position`, both are {}", vec(camera.look_at)),
+            format!("must differ from `position`, both are {}", dvec(camera.look_at)),
         );
     }
     finite_vec(path, "up", camera.up)?;
@@ -181,16 +181,16 @@ fn camera(path: &FieldPath, camera: &CameraDesc) -> Check {
         }
     }
     if let Some(point) = camera.focus_on {
-        coordinate_vec(path, "focus_on", point)?;
+        position(path, "focus_on", point)?;
         if camera.focus_distance.is_some() {
             let rule = "must not be given together with `focus_distance`; give one of them".into();
             return fail(path, "focus_on", rule);
         }
-        let depth = (point.as_dvec3() - camera.position.as_dvec3()).dot(view.normalize());
+        let depth = (point - camera.position).dot(view.normalize());
         if depth as f32 <= 0.0 {
             let rule = format!(
                 "must be in front of the camera (depth along `look_at - position` > 0), got {} at depth {}",
-                vec(point),
+                dvec(point),
                 depth as f32
             );
             return fail(path, "focus_on", rule);
@@ -291,7 +291,7 @@ fn material(path: &FieldPath, material: &MaterialDesc) -> Check {
 fn light(path: &FieldPath, light: &LightDesc) -> Check {
     let (colour, intensity, samples) = match light {
         LightDesc::Point { position, colour, intensity } => {
-            coordinate_vec(path, "position", *position)?;
+            self::position(path, "position", *position)?;
             (colour, intensity, None)
         }
         LightDesc::Directional { direction, colour, intensity } => {
@@ -299,7 +299,7 @@ fn light(path: &FieldPath, light: &LightDesc) -> Check {
             (colour, intensity, None)
         }
         LightDesc::Rect { corner, edge_u, edge_v, colour, intensity, samples, .. } => {
-            coordinate_vec(path, "corner", *corner)?;
+            position(path, "corner", *corner)?;
             non_zero_vec(path, "edge_u", *edge_u)?;
             non_zero_vec(path, "edge_v", *edge_v)?;
             let (u, v) = (edge_u.as_dvec3(), edge_v.as_dvec3());
@@ -311,7 +311,7 @@ fn light(path: &FieldPath, light: &LightDesc) -> Check {
             (colour, intensity, Some(samples))
         }
         LightDesc::Disk { centre, normal, radius, colour, intensity, samples, .. } => {
-            coordinate_vec(path, "centre", *centre)?;
+            position(path, "centre", *centre)?;
             non_zero_vec(path, "normal", *normal)?;
             coordinate(path, "radius", *radius)?;
             if *radius <= 0.0 {
@@ -352,7 +352,7 @@ fn object(path: &FieldPath, object: &ObjectDesc, materials: &[MaterialDesc]) -> 
 }
 
 fn transform(path: &FieldPath, transform: &TransformDesc, shape: &ShapeDesc) -> Check {
-    coordinate_vec(path, "translate", transform.translate)?;
+    position(path, "translate", transform.translate)?;
     finite_vec(path, "rotate_deg", transform.rotate_deg)?;
     coordinate_vec(path, "scale", transform.scale)?;
     if let Some((i, _)) = first_component(transform.scale, |s| s == 0.0) {
@@ -375,14 +375,14 @@ fn transform(path: &FieldPath, transform: &TransformDesc, shape: &ShapeDesc) -> 
 fn shape(path: &FieldPath, shape: &ShapeDesc) -> Check {
     match shape {
         ShapeDesc::Sphere { centre, radius } => {
-            coordinate_vec(path, "centre", *centre)?;
+            position(path, "centre", *centre)?;
             coordinate(path, "radius", *radius)?;
             if *radius <= 0.0 {
                 return fail(path, "radius", format!("must be > 0, got {radius}"));
             }
         }
         ShapeDesc::Plane { point, normal } => {
-            coordinate_vec(path, "point", *point)?;
+            position(path, "point", *point)?;
             finite_vec(path, "normal", *normal)?;
             if *normal == Vec3::ZERO {
                 return fail(path, "normal", "must be non-zero, got (0, 0, 0)".into());
@@ -391,9 +391,9 @@ fn shape(path: &FieldPath, shape: &ShapeDesc) -> Check {
         ShapeDesc::Triangle { vertices } => {
             let path = path.clone().field("vertices");
             for (i, v) in vertices.iter().enumerate() {
-                coordinate_vec(&path, i, *v)?;
+                position(&path, i, *v)?;
             }
-            let [a, b, c] = vertices.map(|v| v.as_dvec3());
+            let [a, b, c] = *vertices;
             let longest = (b - a).length().max((c - b).length()).max((a - c).length());
             if longest == 0.0 || (b - a).cross(c - a).length() <= DEGENERATE_TOLERANCE * longest * longest {
                 let rule = "must span a non-zero area: the three vertices are collinear or coincide";
@@ -407,9 +407,9 @@ fn shape(path: &FieldPath, shape: &ShapeDesc) -> Check {
             }
         }
         ShapeDesc::Cuboid { min, max } => {
-            coordinate_vec(path, "min", *min)?;
-            coordinate_vec(path, "max", *max)?;
-            if let Some((axis, _)) = first_component(*max - *min, |d| d <= 0.0) {
+            position(path, "min", *min)?;
+            position(path, "max", *max)?;
+            if let Some((axis, _)) = first_dcomponent(*max - *min, |d| d <= 0.0) {
                 let (hi, lo) = (max[axis], min[axis]);
                 let rule = format!(
                     "must be greater than `min` on every axis; on {}, max {hi} is not greater than min {lo}",
@@ -423,15 +423,15 @@ fn shape(path: &FieldPath, shape: &ShapeDesc) -> Check {
 }
 
 /// A convex, planar, non-degenerate polygon visiting each corner once.
-fn polygon(path: &FieldPath, vertices: &[Vec3]) -> Check {
+fn polygon(path: &FieldPath, vertices: &[DVec3]) -> Check {
     if vertices.len() < 3 {
         let rule = format!("a polygon must have at least 3 vertices, got {}", vertices.len());
         return Err(Violation { path: path.clone(), rule });
     }
     for (i, v) in vertices.iter().enumerate() {
-        coordinate_vec(path, i, *v)?;
+        position(path, i, *v)?;
     }
-    let v: Vec<DVec3> = vertices.iter().map(|v| v.as_dvec3()).collect();
+    let v = vertices;
     let n = v.len();
     let (lo, hi) = v.iter().fold((v[0], v[0]), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
     let size = (hi - lo).length();
@@ -541,6 +541,22 @@ fn coordinate_vec(path: &FieldPath, child: impl Child + Copy, value: Vec3) -> Ch
     }
 }
 
+/// A position (64-bit): finite and within ±[`MAX_COORDINATE`] in every component, the
+/// magnitude compared at 32-bit precision like every other coordinate.
+fn position(path: &FieldPath, child: impl Child + Copy, value: DVec3) -> Check {
+    if let Some((i, c)) = first_dcomponent(value, |c| !c.is_finite()) {
+        return fail(
+            path,
+            child,
+            format!("must be a finite number in every component, got {} = {c}", AXES[i]),
+        );
+    }
+    match first_dcomponent(value, |c| (c as f32).abs() > MAX_COORDINATE) {
+        None => Ok(()),
+        Some((i, c)) => fail(path, child, format!("{}, got {} = {c:e}", coordinate_rule(), AXES[i])),
+    }
+}
+
 /// The rule every coordinate, radius and scale obeys (see [`MAX_COORDINATE`]).
 pub fn coordinate_rule() -> String {
     format!("must lie within ±{MAX_COORDINATE:e} (distances are squared in 32-bit floats)")
@@ -596,8 +612,18 @@ fn first_component(value: Vec3, bad: impl Fn(f32) -> bool) -> Option<(usize, f32
     value.to_array().into_iter().enumerate().find(|&(_, c)| bad(c))
 }
 
+/// [`first_component`] of a 64-bit vector.
+fn first_dcomponent(value: DVec3, bad: impl Fn(f64) -> bool) -> Option<(usize, f64)> {
+    value.to_array().into_iter().enumerate().find(|&(_, c)| bad(c))
+}
+
 /// A vector as RON writes it: `(1, 0.5, -2)`.
 fn vec(value: Vec3) -> String {
+    format!("({}, {}, {})", value.x, value.y, value.z)
+}
+
+/// A 64-bit vector as RON writes it.
+fn dvec(value: DVec3) -> String {
     format!("({}, {}, {})", value.x, value.y, value.z)
 }
 
@@ -607,7 +633,8 @@ mod tests {
 
     fn polygon_rule(vertices: &[Vec3]) -> Option<(String, String)> {
         let path = FieldPath::root().field("vertices");
-        polygon(&path, vertices).err().map(|v| (v.path.to_string(), v.rule))
+        let vertices: Vec<DVec3> = vertices.iter().map(|v| v.as_dvec3()).collect();
+        polygon(&path, &vertices).err().map(|v| (v.path.to_string(), v.rule))
     }
 
     fn regular(n: usize, step: usize, scale: f32) -> Vec<Vec3> {

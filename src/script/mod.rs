@@ -13,7 +13,10 @@
 //! world.setup()?;
 //! world.frame(Clock::at(12, 24.0))?; // t = 0.5 s
 //! let snapshot = world.update();
-//! assert!((snapshot.camera.position.x - 6.0 * 0.5f32.sin()).abs() < 1e-5);
+//! let rig = world.world().world().resource::<penumbra::world::resources::CameraRig>();
+//! assert!((rig.position.x - 6.0 * 0.5f64.sin()).abs() < 1e-12); // scripts write f64 positions
+//! // Snapshots are camera-relative: the traced camera sits at the origin.
+//! assert_eq!(snapshot.camera.position, penumbra::math::Vec3::ZERO);
 //! # Ok::<(), penumbra::script::ScriptError>(())
 //! ```
 

@@ -14,7 +14,6 @@ use bevy_ecs::prelude::{DetectChangesMut, Entity, Mut, Query, Res, ResMut, Resou
 use glam::{DVec3, EulerRot, Quat, Vec3};
 
 use crate::geom;
-use crate::math::Affine3A;
 use crate::sample::adaptive::AdaptiveSettings;
 use crate::scene::format::LightDesc;
 use crate::store::MaterialId;
@@ -283,7 +282,7 @@ impl EntityState {
 
 /// The rotation of the scene convention: about X, then Y, then Z, by angles in degrees.
 pub fn rotation_from_degrees(deg: DVec3) -> Quat {
-    Transform::from_scene(Vec3::ZERO, deg.as_vec3(), Vec3::ONE).rotation
+    Transform::from_scene(DVec3::ZERO, deg.as_vec3(), Vec3::ONE).rotation
 }
 
 /// Angles in degrees (about X, then Y, then Z) of a rotation; the inverse of
@@ -293,13 +292,13 @@ pub fn degrees_from_rotation(q: Quat) -> DVec3 {
     DVec3::new(x as f64, y as f64, z as f64) * (180.0 / std::f64::consts::PI)
 }
 
-/// The light's position as scripts see it (`None` for directional lights).
-fn light_position(light: &trace::Light) -> Option<Vec3> {
-    match *light {
-        trace::Light::Point { position, .. } => Some(position),
-        trace::Light::Rect { corner, edge_u, edge_v, .. } => Some(corner + 0.5 * (edge_u + edge_v)),
-        trace::Light::Disk { centre, .. } => Some(centre),
-        trace::Light::Directional { .. } => None,
+/// The light's position as scripts see it: a point light's position, an area light's centre
+/// (`None` for directional lights).
+fn light_position(light: &Light) -> Option<DVec3> {
+    let anchor = light.position()?;
+    match light.source {
+        trace::Light::Rect { edge_u, edge_v, .. } => Some(anchor + 0.5 * (edge_u + edge_v).as_dvec3()),
+        _ => Some(anchor),
     }
 }
 
@@ -326,15 +325,14 @@ fn relit(light: &trace::Light, to: Vec3) -> trace::Light {
 }
 
 /// The light moved so that its position (as [`light_position`] defines it) is `to`.
-fn moved_light(light: &trace::Light, to: Vec3) -> trace::Light {
-    let mut moved = *light;
-    match &mut moved {
-        trace::Light::Point { position, .. } => *position = to,
-        trace::Light::Rect { corner, edge_u, edge_v, .. } => *corner = to - 0.5 * (*edge_u + *edge_v),
-        trace::Light::Disk { centre, .. } => *centre = to,
-        trace::Light::Directional { .. } => {}
+fn moved_light(light: &Light, to: DVec3) -> Light {
+    match light.source {
+        trace::Light::Directional { .. } => *light,
+        trace::Light::Rect { edge_u, edge_v, .. } => {
+            Light::at(to - 0.5 * (edge_u + edge_v).as_dvec3(), light.source)
+        }
+        _ => Light::at(to, light.source),
     }
-    moved
 }
 
 impl ScriptState {
@@ -345,15 +343,15 @@ impl ScriptState {
         let materials = world.resource::<Materials>().table.clone();
         let mut state = ScriptState {
             camera: CameraState {
-                position: rig.position.as_dvec3(),
-                look_at: rig.look_at.as_dvec3(),
+                position: rig.position,
+                look_at: rig.look_at,
                 up: rig.up.as_dvec3(),
                 fov_deg: (rig.fov_y as f64).to_degrees(),
                 aperture: rig.aperture as f64,
                 focus: match rig.focus {
                     Focus::LookAt => FocusState::LookAt,
                     Focus::Distance(d) => FocusState::Distance(d as f64),
-                    Focus::Point(p) => FocusState::Point(p.as_dvec3()),
+                    Focus::Point(p) => FocusState::Point(p),
                 },
             },
             settings: SettingsState {
@@ -395,18 +393,14 @@ impl ScriptState {
                 light_dirty: false,
             };
             if let (Some(shape), Some(t)) = (e.get::<Shape>(), e.get::<Transform>()) {
-                let aabb = match &shape.0 {
-                    geom::Shape::Plane { .. } => None,
-                    other => other.place(&Affine3A::IDENTITY).bounds(),
-                };
+                let bounds = shape.0.bounds();
                 let pivot = match &shape.0 {
-                    geom::Shape::Plane { point, .. } => point.as_dvec3(),
-                    _ => aabb.map_or(DVec3::ZERO, |b| (0.5 * (b.min + b.max)).as_dvec3()),
+                    geom::Shape::Plane { point, .. } => *point,
+                    _ => bounds.map_or(DVec3::ZERO, |(min, max)| 0.5 * (min + max)),
                 };
-                let bounds = aabb.map(|b| (b.min.as_dvec3(), b.max.as_dvec3()));
                 let uniform_scale = matches!(shape.0, geom::Shape::Sphere { .. });
                 entry.kind = EntityKind::Object { pivot, uniform_scale, bounds };
-                entry.position = t.translation.as_dvec3();
+                entry.position = t.translation;
                 entry.rotation_deg = degrees_from_rotation(t.rotation);
                 entry.scale = t.scale.as_dvec3();
                 entry.material = e
@@ -414,12 +408,12 @@ impl ScriptState {
                     .and_then(|m| materials.get(m.0 .0 as usize))
                     .map(|m| MaterialState { params: MaterialParams::from(m), private: None });
             } else if let Some(light) = e.get::<Light>() {
-                let position = light_position(&light.0);
+                let position = light_position(light);
                 entry.kind = EntityKind::Light { positioned: position.is_some() };
-                entry.position = position.map_or(DVec3::ZERO, Vec3::as_dvec3);
+                entry.position = position.unwrap_or(DVec3::ZERO);
                 // The World keeps only the product; `adopt_light_terms` restores the file's split.
                 entry.light =
-                    Some(LightTerms { colour: light_radiance(&light.0).as_dvec3(), intensity: 1.0 });
+                    Some(LightTerms { colour: light_radiance(&light.source).as_dvec3(), intensity: 1.0 });
             } else {
                 continue;
             }
@@ -469,16 +463,16 @@ impl ScriptState {
     fn rig(&self) -> CameraRig {
         let c = &self.camera;
         CameraRig {
-            position: c.position.as_vec3(),
-            look_at: c.look_at.as_vec3(),
+            position: c.position,
+            look_at: c.look_at,
             up: c.up.as_vec3(),
             fov_y: (c.fov_deg as f32).to_radians(),
             aperture: c.aperture as f32,
             focus: match c.focus {
                 FocusState::LookAt => Focus::LookAt,
                 FocusState::Distance(d) => Focus::Distance(d as f32),
-                FocusState::Point(p) => Focus::Point(p.as_vec3()),
-                FocusState::Entity(i) => Focus::Point(self.entities[i].centre().as_vec3()),
+                FocusState::Point(p) => Focus::Point(p),
+                FocusState::Entity(i) => Focus::Point(self.entities[i].centre()),
             },
         }
     }
@@ -544,20 +538,20 @@ pub fn apply_script_writes(
                 false => transform.rotation,
             };
             transform.set_if_neq(Transform {
-                translation: entry.position.as_vec3(),
+                translation: entry.position,
                 rotation,
                 scale: entry.scale.as_vec3(),
             });
         }
         if let (true, Some(mut light)) = (entry.transform_dirty || entry.light_dirty, light) {
-            let mut next = light.0;
+            let mut next = *light;
             if entry.transform_dirty {
-                next = moved_light(&next, entry.position.as_vec3());
+                next = moved_light(&next, entry.position);
             }
             if let (true, Some(terms)) = (entry.light_dirty, entry.light) {
-                next = relit(&next, (terms.colour * terms.intensity).as_vec3());
+                next.source = relit(&next.source, (terms.colour * terms.intensity).as_vec3());
             }
-            light.set_if_neq(Light(next));
+            light.set_if_neq(next);
         }
         if entry.visible_dirty {
             if let Some(mut visible) = visible {
@@ -629,8 +623,12 @@ mod tests {
             samples: 4,
             pattern: crate::sample::Pattern::Grid,
         };
-        assert_eq!(light_position(&rect), Some(Vec3::new(1.0, 0.0, 0.5)));
-        let moved = moved_light(&rect, Vec3::new(5.0, 3.0, 0.5));
-        assert_eq!(light_position(&moved), Some(Vec3::new(5.0, 3.0, 0.5)));
+        let rect = Light::at(DVec3::ZERO, rect);
+        assert_eq!(light_position(&rect), Some(DVec3::new(1.0, 0.0, 0.5)));
+        // Far out, a move finer than f32's step there is kept.
+        let to = DVec3::new(1e6 + 0.01, 3.0, 0.5);
+        let moved = moved_light(&rect, to);
+        assert_eq!(light_position(&moved), Some(to));
+        assert_eq!(moved.position(), Some(DVec3::new(1e6 + 0.01 - 1.0, 3.0, 0.0)));
     }
 }

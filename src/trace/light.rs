@@ -63,6 +63,29 @@ pub enum Light {
 }
 
 impl Light {
+    /// The point a light is placed by: a point light's position, a rectangle's corner, a
+    /// disk's centre; zero for directional lights.
+    pub fn anchor(&self) -> Vec3 {
+        match *self {
+            Light::Point { position, .. } => position,
+            Light::Rect { corner, .. } => corner,
+            Light::Disk { centre, .. } => centre,
+            Light::Directional { .. } => Vec3::ZERO,
+        }
+    }
+
+    /// The light moved by `by` (directional lights do not move).
+    pub fn translated(&self, by: Vec3) -> Self {
+        let mut moved = *self;
+        match &mut moved {
+            Light::Point { position: p, .. }
+            | Light::Rect { corner: p, .. }
+            | Light::Disk { centre: p, .. } => *p += by,
+            Light::Directional { .. } => {}
+        }
+        moved
+    }
+
     /// Unit direction from `p` towards a point light or directional light, the distance to it
     /// (∞ for directional) and the radiance arriving. For area lights, the direction to the
     /// centre and the whole radiance (used only where one representative sample is wanted).

@@ -8,17 +8,32 @@
 //! entity was removed, and `build_snapshot`, which flattens everything into a
 //! [`crate::trace::TraceScene`]. Only this module and `scene::spawn` import bevy_ecs.
 //!
+//! **Coordinates.** Authored positions are `f64`: transforms' translations, shapes' positions,
+//! lights' anchors and the camera rig. Each frame is derived relative to the camera position
+//! ([`resources::FrameOrigin`]): positions are computed in `f64`, the camera position is
+//! subtracted, and only then are they rounded to the `f32` the tracer uses, so a scene a
+//! million units from the origin renders like the same scene at the origin, and a camera
+//! moving by less than `f32`'s step out there still moves. The snapshot's camera sits at
+//! `Vec3::ZERO`. A frame where nothing moved, the camera included, reuses the grid; a frame
+//! where the camera moved derives every entity's geometry again and rebuilds the top-level
+//! grid (mesh grids are in object space and are never rebuilt). Every derived value is a
+//! function of the frame's authored state alone, never of earlier frames.
+//!
 //! ```
-//! # use penumbra::{scene, world::{SceneWorld, components::Transform}, math::Vec3};
+//! # use penumbra::{scene, world::{SceneWorld, components::Transform}};
+//! # use glam::DVec3;
 //! let mut world: SceneWorld = scene::spawn_world(&scene::default_scene());
 //! let first = world.update();
 //! assert_eq!(world.grid_rebuilds(), 1);
 //! world.update(); // nothing moved: the grid is reused
 //! assert_eq!(world.grid_rebuilds(), 1);
 //! let ball = world.entity("red_ball").unwrap();
-//! world.world_mut().get_mut::<Transform>(ball).unwrap().translation += Vec3::X;
+//! world.world_mut().get_mut::<Transform>(ball).unwrap().translation += DVec3::X;
 //! world.update();
 //! assert_eq!(world.grid_rebuilds(), 2);
+//! world.world_mut().resource_mut::<penumbra::world::resources::CameraRig>().position.x += 0.5;
+//! world.update(); // the camera moved: the snapshot's origin moved with it
+//! assert_eq!(world.grid_rebuilds(), 3);
 //! # let _ = first;
 //! ```
 
@@ -53,6 +68,7 @@ impl<S: PrimitiveStore + 'static> SceneWorld<S> {
         world.init_resource::<resources::GridIndex>();
         world.init_resource::<resources::MeshTable>();
         world.init_resource::<resources::MeshLayouts<S>>();
+        world.init_resource::<resources::FrameOrigin>();
         Self { world, schedule: schedule::build_schedule::<S>(), layout: PhantomData }
     }
 

@@ -4,6 +4,7 @@
 use std::sync::Arc;
 
 use bevy_ecs::prelude::{Entity, Resource};
+use glam::DVec3;
 
 use crate::accel::{UniformGrid, DEFAULT_LAMBDA};
 use crate::math::Vec3;
@@ -27,13 +28,14 @@ impl Materials {
     }
 }
 
-/// The camera as authored (angles in radians).
+/// The camera as authored (positions in `f64`, angles in radians). Its position is the
+/// origin of every snapshot ([`FrameOrigin`]).
 #[derive(Resource, Debug, Clone, Copy, PartialEq)]
 pub struct CameraRig {
     /// Eye position.
-    pub position: Vec3,
+    pub position: DVec3,
     /// Point looked at.
-    pub look_at: Vec3,
+    pub look_at: DVec3,
     /// Rough up direction.
     pub up: Vec3,
     /// Vertical field of view in radians.
@@ -52,22 +54,35 @@ pub enum Focus {
     /// The plane at this distance along the view direction.
     Distance(f32),
     /// The plane through this point (its depth along the view direction); follows the camera.
-    Point(Vec3),
+    Point(DVec3),
 }
 
 impl CameraRig {
-    /// The camera this rig describes, its focus resolved against the current pose.
+    /// The camera this rig describes in the snapshot's coordinates, whose origin is the eye:
+    /// it sits at `Vec3::ZERO` and looks towards `look_at - position` (computed in `f64`),
+    /// its focus resolved against the current pose.
     pub fn camera(&self) -> crate::camera::Camera {
-        let camera = crate::camera::Camera::look_at(self.position, self.look_at, self.up, self.fov_y);
+        let towards = (self.look_at - self.position).as_vec3();
+        let camera = crate::camera::Camera::look_at(Vec3::ZERO, towards, self.up, self.fov_y);
         let distance = match self.focus {
             Focus::LookAt => camera.focus_distance,
             Focus::Distance(d) => d,
             // Validation keeps the point in front of the camera; clamp for script-driven poses.
-            Focus::Point(p) => (p - self.position).dot(camera.forward).max(f32::MIN_POSITIVE),
+            Focus::Point(p) => {
+                ((p - self.position).dot(camera.forward.as_dvec3()) as f32).max(f32::MIN_POSITIVE)
+            }
         };
         camera.with_lens(self.aperture, distance)
     }
 }
+
+/// The world point the current `WorldShape`s, `WorldAabb`s and grid are relative to: the
+/// camera position of the frame they were derived for. Snapshots are camera-relative, so that
+/// `f32` keeps its precision where the camera looks however far that is from the world's
+/// origin. `update_bounds` moves it to the camera each frame; when it moves, every entity's
+/// world geometry is derived again and the grid is rebuilt.
+#[derive(Resource, Debug, Clone, Copy, Default, PartialEq)]
+pub struct FrameOrigin(pub DVec3);
 
 /// Frame-wide render settings.
 #[derive(Resource, Debug, Clone, Copy, PartialEq)]

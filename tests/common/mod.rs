@@ -3,6 +3,7 @@
 //!
 //! Every generator is a pure function of its seed, so a failure names the seed that shows it.
 
+use glam::{DAffine3, DVec3};
 use penumbra::camera::Camera;
 use penumbra::geom::Shape;
 use penumbra::math::{Affine3A, Quat, Vec3};
@@ -40,7 +41,10 @@ pub fn unit_vector(rng: &mut StdRng) -> Vec3 {
 }
 
 fn object(shape: Shape, to_world: &Affine3A, material: u32) -> PlacedObject {
-    PlacedObject { geometry: shape.place(to_world), material: MaterialId(material) }
+    PlacedObject {
+        geometry: shape.place(&to_world.as_daffine3(), DVec3::ZERO),
+        material: MaterialId(material),
+    }
 }
 
 /// `n` spheres with centres uniform in `[-extent/2, extent/2]³` and radii a random fraction
@@ -54,7 +58,7 @@ pub fn random_spheres(seed: u64, n: usize, extent: f32) -> Vec<PlacedObject> {
         .map(|_| {
             let centre = point_in(&mut rng, -half, half);
             let radius = spacing * rng.random_range(0.1f32..0.4);
-            object(Shape::Sphere { centre, radius }, &Affine3A::IDENTITY, 0)
+            object(Shape::Sphere { centre: centre.as_dvec3(), radius }, &Affine3A::IDENTITY, 0)
         })
         .collect()
 }
@@ -70,7 +74,7 @@ pub fn random_triangles(seed: u64, n: usize, extent: f32) -> Vec<PlacedObject> {
             let c = point_in(&mut rng, -half, half);
             let vertices =
                 [0; 3].map(|_| c + unit_vector(&mut rng) * spacing * rng.random_range(0.2f32..0.6));
-            object(Shape::Triangle { vertices }, &Affine3A::IDENTITY, 0)
+            object(Shape::Triangle { vertices: vertices.map(Vec3::as_dvec3) }, &Affine3A::IDENTITY, 0)
         })
         .collect()
 }
@@ -86,7 +90,7 @@ fn random_polygon(rng: &mut StdRng, c: Vec3, size: f32) -> Shape {
     let vertices = (0..k)
         .map(|i| {
             let ang = phase + i as f32 / k as f32 * std::f32::consts::TAU;
-            c + u * (a * ang.cos()) + v * (b * ang.sin())
+            (c + u * (a * ang.cos()) + v * (b * ang.sin())).as_dvec3()
         })
         .collect();
     Shape::Polygon { vertices }
@@ -107,12 +111,12 @@ pub fn random_mixed_in(seed: u64, n: usize, extent: f32, materials: u32) -> Vec<
             match rng.random_range(0..4) {
                 0 => {
                     let radius = size * rng.random_range(0.1f32..0.5);
-                    object(Shape::Sphere { centre: c, radius }, &Affine3A::IDENTITY, m)
+                    object(Shape::Sphere { centre: c.as_dvec3(), radius }, &Affine3A::IDENTITY, m)
                 }
                 1 => {
                     let vertices =
                         [0; 3].map(|_| c + unit_vector(&mut rng) * size * rng.random_range(0.2f32..0.8));
-                    object(Shape::Triangle { vertices }, &Affine3A::IDENTITY, m)
+                    object(Shape::Triangle { vertices: vertices.map(Vec3::as_dvec3) }, &Affine3A::IDENTITY, m)
                 }
                 2 => object(random_polygon(&mut rng, c, size * 0.6), &Affine3A::IDENTITY, m),
                 _ => {
@@ -124,17 +128,17 @@ pub fn random_mixed_in(seed: u64, n: usize, extent: f32, materials: u32) -> Vec<
                         rng.random_range(0.5f32..2.0),
                     );
                     let to_world = Affine3A::from_scale_rotation_translation(scale * size * 0.3, rot, c);
-                    object(Shape::Cuboid { min: Vec3::splat(-0.5), max: Vec3::splat(0.5) }, &to_world, m)
+                    object(Shape::Cuboid { min: DVec3::splat(-0.5), max: DVec3::splat(0.5) }, &to_world, m)
                 }
             }
         })
         .collect();
     // A floor below the cloud, and sometimes a tilted back wall.
-    let floor = Shape::Plane { point: Vec3::new(0.0, -0.75 * extent, 0.0), normal: Vec3::Y };
+    let floor = Shape::Plane { point: DVec3::new(0.0, -0.75 * f64::from(extent), 0.0), normal: Vec3::Y };
     objects.push(object(floor, &Affine3A::IDENTITY, 0));
     if rng.random::<bool>() {
         let normal = Vec3::new(0.2, 0.1, -1.0);
-        let wall = Shape::Plane { point: Vec3::new(0.0, 0.0, 1.5 * extent), normal };
+        let wall = Shape::Plane { point: DVec3::new(0.0, 0.0, 1.5 * f64::from(extent)), normal };
         objects.push(object(wall, &Affine3A::IDENTITY, 0));
     }
     objects
@@ -206,10 +210,11 @@ pub fn mesh_scene<S: penumbra::store::PrimitiveStore>(
     let shape = Shape::Mesh { mesh: penumbra::geom::MeshId(0), bounds: mesh.data.bounds };
     let objects = vec![
         PlacedObject {
-            geometry: Shape::Plane { point: Vec3::ZERO, normal: Vec3::Y }.place(&Affine3A::IDENTITY),
+            geometry: Shape::Plane { point: DVec3::ZERO, normal: Vec3::Y }
+                .place(&DAffine3::IDENTITY, DVec3::ZERO),
             material: MaterialId(0),
         },
-        PlacedObject { geometry: shape.place(&to_world), material: MaterialId(1) },
+        PlacedObject { geometry: shape.place(&to_world.as_daffine3(), DVec3::ZERO), material: MaterialId(1) },
     ];
     let tables = SceneTables {
         materials: vec![
@@ -285,11 +290,16 @@ pub mod strategies {
     /// One random object: sphere, box, triangle or mesh instance (`MeshId(0)`).
     pub fn object(r: f32, mesh_bounds: penumbra::math::Aabb) -> impl Strategy<Value = PlacedObject> {
         let shape = prop_oneof![
-            (point(r), 0.1f32..1.5).prop_map(|(centre, radius)| Shape::Sphere { centre, radius }),
-            (point(1.0), 0.1f32..1.5).prop_map(|(min, e)| Shape::Cuboid { min, max: min + Vec3::splat(e) }),
+            (point(r), 0.1f32..1.5)
+                .prop_map(|(centre, radius)| Shape::Sphere { centre: centre.as_dvec3(), radius }),
+            (point(1.0), 0.1f32..1.5).prop_map(|(min, e)| Shape::Cuboid {
+                min: min.as_dvec3(),
+                max: (min + Vec3::splat(e)).as_dvec3()
+            }),
             (point(r), point(1.5), point(1.5)).prop_filter_map("non-degenerate", |(a, b, c)| {
                 let (b, c) = (a + b, a + c);
-                ((b - a).cross(c - a).length() > 1e-3).then_some(Shape::Triangle { vertices: [a, b, c] })
+                ((b - a).cross(c - a).length() > 1e-3)
+                    .then_some(Shape::Triangle { vertices: [a, b, c].map(Vec3::as_dvec3) })
             }),
             Just(Shape::Mesh { mesh: MeshId(0), bounds: mesh_bounds }),
         ];
@@ -301,7 +311,10 @@ pub mod strategies {
                 }
                 _ => to_world,
             };
-            PlacedObject { geometry: shape.place(&to_world), material: MaterialId(0) }
+            PlacedObject {
+                geometry: shape.place(&to_world.as_daffine3(), glam::DVec3::ZERO),
+                material: MaterialId(0),
+            }
         })
     }
 

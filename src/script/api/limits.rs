@@ -3,7 +3,7 @@
 //! moving or scaling an object beyond ±1e18 in world space, a lens or focus point beyond it,
 //! and light, sample counts or depth that would let a pixel's radiance sum overflow.
 
-use glam::Vec3;
+use glam::DVec3;
 
 use super::convert::{error, ScriptResult};
 use super::scene::camera_desc;
@@ -61,7 +61,7 @@ pub fn radiance(state: &ScriptState, what: &str) -> ScriptResult<()> {
             let colour = terms.colour.as_vec3();
             Some((
                 e.name.as_str(),
-                LightDesc::Point { position: Vec3::ZERO, colour, intensity: terms.intensity as f32 },
+                LightDesc::Point { position: DVec3::ZERO, colour, intensity: terms.intensity as f32 },
             ))
         })
         .collect();

@@ -78,7 +78,7 @@ fn register_clock(engine: &mut Engine, state: &SharedState) {
     engine.register_fn("fps", move || s.lock().clock.fps as FLOAT);
 }
 
-/// A vector finite in 32-bit floats (the World's precision), or an error naming `what`.
+/// A vector finite in 32-bit floats (the tracer's precision), or an error naming `what`.
 fn finite_vec(v: DVec3, what: &str) -> ScriptResult<DVec3> {
     match v.as_vec3().is_finite() {
         true => Ok(v),
@@ -167,9 +167,9 @@ fn register_camera(engine: &mut Engine) {
 /// A camera the scene format accepts, to check one field against with the others valid.
 fn valid_camera_desc() -> CameraDesc {
     CameraDesc {
-        position: glam::Vec3::ZERO,
-        look_at: glam::Vec3::Z,
-        up: glam::Vec3::Y,
+        position: DVec3::ZERO,
+        look_at: DVec3::Z,
+        up: Vec3::Y,
         fov_deg: 45.0,
         width: 1,
         height: 1,
@@ -194,8 +194,8 @@ fn check_camera_field(set: impl FnOnce(&mut CameraDesc)) -> ScriptResult<()> {
 pub fn camera_desc(state: &ScriptState) -> CameraDesc {
     let c = &state.camera;
     CameraDesc {
-        position: c.position.as_vec3(),
-        look_at: c.look_at.as_vec3(),
+        position: c.position,
+        look_at: c.look_at,
         up: c.up.as_vec3(),
         fov_deg: c.fov_deg as f32,
         width: state.settings.width,
@@ -369,7 +369,7 @@ fn light(entry: &EntityState, property: &str) -> ScriptResult<LightTerms> {
 /// scene validator run on a scene holding only this light); the error names `field`.
 fn check_light_field(name: &str, field: &str, terms: LightTerms) -> ScriptResult<()> {
     let light = LightDesc::Point {
-        position: Vec3::ZERO,
+        position: DVec3::ZERO,
         colour: terms.colour.as_vec3(),
         intensity: terms.intensity as f32,
     };

@@ -1,4 +1,6 @@
-//! `build_snapshot`: flattens the World into an immutable [`TraceScene`].
+//! `build_snapshot`: flattens the World into an immutable [`TraceScene`], in coordinates whose
+//! origin is the camera ([`FrameOrigin`]): the camera sits at `Vec3::ZERO`, geometry and lights
+//! are placed relative to it in `f64` and rounded once to `f32`.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -9,7 +11,7 @@ use crate::store::{MeshEntry, PlacedObject, PrimitiveStore};
 use crate::trace::{SceneTables, TraceScene};
 use crate::world::components::{Light, MaterialRef, Name, Visible, WorldAabb, WorldShape};
 use crate::world::resources::{
-    CameraRig, GridIndex, Materials, MeshLayouts, MeshTable, SceneSettings, Snapshot, StageClock,
+    CameraRig, FrameOrigin, GridIndex, Materials, MeshLayouts, MeshTable, SceneSettings, Snapshot, StageClock,
 };
 use crate::world::systems::grid::is_visible;
 
@@ -24,7 +26,8 @@ type ObjectParts = (
 );
 
 /// Builds this frame's snapshot: bounded objects in grid order, visible planes and lights in
-/// entity order, and the material table, camera and settings.
+/// entity order, and the material table, camera and settings; everything relative to the
+/// camera position, the origin `update_bounds` derived the geometry for.
 #[allow(clippy::too_many_arguments)]
 pub fn build_snapshot<S: PrimitiveStore + 'static>(
     objects: Query<ObjectParts>,
@@ -32,6 +35,7 @@ pub fn build_snapshot<S: PrimitiveStore + 'static>(
     index: Res<GridIndex>,
     materials: Res<Materials>,
     rig: Res<CameraRig>,
+    origin: Res<FrameOrigin>,
     settings: Res<SceneSettings>,
     meshes: Res<MeshTable>,
     mut layouts: ResMut<MeshLayouts<S>>,
@@ -39,6 +43,7 @@ pub fn build_snapshot<S: PrimitiveStore + 'static>(
     mut clock: ResMut<StageClock>,
 ) {
     let started = Instant::now();
+    debug_assert_eq!(origin.0, rig.position, "update_bounds moves the origin to the camera");
     // Lay out mesh assets added since the last frame (normally all of them, once).
     let have = layouts.0.len();
     layouts.0.extend(meshes.0[have..].iter().map(|m| Arc::new(MeshEntry::new(m.clone()))));
@@ -76,7 +81,7 @@ pub fn build_snapshot<S: PrimitiveStore + 'static>(
 
     let tables = SceneTables {
         materials: materials.table.clone(),
-        lights: lights.iter().map(|(_, l, _)| l.0).collect(),
+        lights: lights.iter().map(|(_, l, _)| l.relative_to(origin.0)).collect(),
         camera: rig.camera(),
         background: settings.background,
         ambient: settings.ambient,
