@@ -677,20 +677,32 @@ fn rays_touching_a_box_in_a_face_plane_on_an_edge_or_at_a_corner_hit_it_on_all_s
     check_box_contacts::<AosStore>("AoS");
 }
 
-/// A sphere A of radius `r` (object 0) and a neighbour B (object 1) half a radius beyond its
-/// +x side, A's centre `distance` from the world origin, in a snapshot whose origin is
-/// `origin` (positions are subtracted in f64 and rounded once, as the World's snapshots are).
-/// Returns the scene and A's and B's centres relative to the snapshot, in f64.
-fn neighbours(distance: f64, origin: DVec3, r: f64) -> (TraceScene, DVec3, DVec3) {
+/// A sphere A (named `a`) of radius `r` and a neighbour B (`b`) half a radius beyond its
+/// +x side, A's centre `distance` from the world origin, written as a scene file with the
+/// camera at `camera` and taken through the World: the snapshot places everything relative to
+/// the camera (subtracting in f64, rounding once). Returns the snapshot and A's and B's centres
+/// in it, in f64 (the f32 values the snapshot holds).
+fn neighbours(distance: f64, camera: DVec3, r: f64) -> (Arc<TraceScene>, DVec3, DVec3) {
+    use penumbra::scene::{parse_scene, spawn_world};
+    use penumbra::world::SceneWorld;
     let a = DVec3::new(0.6, 0.48, 0.64) * distance;
     let b = a + DVec3::X * 2.5 * r;
-    let (a, b) = (a - origin, b - origin);
-    let spheres = [a, b].map(|c| object(Placed::Sphere { centre: c.as_vec3(), radius: r as f32 }));
-    let mut tables = tables();
-    tables.camera = Camera::look_at(Vec3::ZERO, a.as_vec3(), Vec3::Y, 0.8);
-    // The f64 centres the reference uses are the f32 ones the scene holds.
-    let exact = |c: DVec3| c.as_vec3().as_dvec3();
-    (TraceScene::build(&spheres, tables, 2.0), exact(a), exact(b))
+    let p = |v: DVec3| format!("({:?}, {:?}, {:?})", v.x, v.y, v.z);
+    let sphere = |name: &str, c: DVec3| {
+        format!("(name: \"{name}\", shape: Sphere(centre: {}, radius: {r:?}), material: \"m\")", p(c))
+    };
+    let text = format!(
+        "Scene(camera: (position: {}, look_at: {}, up: (0, 1, 0), fov_deg: 40, width: 8, height: 8),
+         materials: [(name: \"m\", kd: (0.5, 0.5, 0.5))], lights: [], objects: [{}, {}])",
+        p(camera),
+        p(a),
+        sphere("a", a),
+        sphere("b", b)
+    );
+    let desc = parse_scene(&text, "neighbours.ron").unwrap_or_else(|e| panic!("{e}"));
+    let mut world: SceneWorld = spawn_world(&desc);
+    let relative = |c: DVec3| (c - camera).as_vec3().as_dvec3();
+    (world.update(), relative(a), relative(b))
 }
 
 /// The first hit of the ray `o + t·d` (f64) with the sphere `(c, r)` beyond `t > 0`.
@@ -708,12 +720,13 @@ fn secondary_rays_from_a_tiny_sphere_reach_a_neighbour_half_a_radius_away_at_any
     let r = 1e-4;
     for distance in [1.0, 1e3, 1e5] {
         // At distance 1 the camera is at the world origin; farther out it is beside the spheres.
-        let origin = if distance <= 1.0 {
+        let camera = if distance <= 1.0 {
             DVec3::ZERO
         } else {
             DVec3::new(0.6, 0.48, 0.64) * distance + DVec3::new(0.37, -0.21, -0.5)
         };
-        let (scene, a, b) = neighbours(distance, origin, r);
+        let (scene, a, b) = neighbours(distance, camera, r);
+        let name = |object: u32| scene.object_names[object as usize].as_str();
         let at = |ray: &Ray| {
             let h = closest_hit(&scene, ray, 0.0, f32::INFINITY)
                 .unwrap_or_else(|| panic!("distance {distance}: {ray:?} missed"));
@@ -724,12 +737,12 @@ fn secondary_rays_from_a_tiny_sphere_reach_a_neighbour_half_a_radius_away_at_any
         let d_in = DVec3::new(-1.0, -0.5, 0.0).normalize();
         let incoming = Ray::new((p - d_in * 0.3 * r).as_vec3(), d_in.as_vec3());
         let (h, sp) = at(&incoming);
-        assert_eq!(h.object, 0, "distance {distance}: the incoming ray hits A");
+        assert_eq!(name(h.object), "a", "distance {distance}: the incoming ray hits A");
         let mirror = reflect(incoming.dir, sp.normal);
         let (h, _) = at(&Ray::new(sp.spawn(mirror), mirror));
         let expected =
             f64_sphere(sp.point.as_dvec3(), mirror.as_dvec3(), b, r).expect("the mirror ray meets B");
-        assert_eq!(h.object, 1, "distance {distance}: the mirror ray skipped the neighbour");
+        assert_eq!(name(h.object), "b", "distance {distance}: the mirror ray skipped the neighbour");
         // The hit point and B's centre are good to a few ulps of their coordinates.
         let tol = 1e-3 * r + 4.0 * ulp(sp.point) as f64;
         assert!((h.t as f64 - expected).abs() <= tol, "distance {distance}: t {} vs {expected}", h.t);
@@ -740,11 +753,11 @@ fn secondary_rays_from_a_tiny_sphere_reach_a_neighbour_half_a_radius_away_at_any
         let o2 = target + (n2 + DVec3::new(0.2, -0.1, 0.0)) * 3.0 * r;
         let incoming = Ray::new(o2.as_vec3(), (target - o2).normalize().as_vec3());
         let (h, sp) = at(&incoming);
-        assert_eq!(h.object, 0);
+        assert_eq!(name(h.object), "a");
         let bent = refract(incoming.dir, sp.normal, 1.0 / 1.5).expect("entering glass refracts");
         let (h, _) = at(&Ray::new(sp.spawn(bent), bent));
         let chord = -2.0 * (sp.point.as_dvec3() - a).dot(bent.as_dvec3());
-        assert_eq!(h.object, 0, "distance {distance}: the refracted ray left A elsewhere");
+        assert_eq!(name(h.object), "a", "distance {distance}: the refracted ray left A elsewhere");
         let tol = 1e-3 * chord + 4.0 * ulp(sp.point) as f64;
         assert!((h.t as f64 - chord).abs() <= tol, "distance {distance}: chord {} vs {chord}", h.t);
 
@@ -754,7 +767,7 @@ fn secondary_rays_from_a_tiny_sphere_reach_a_neighbour_half_a_radius_away_at_any
             let n = common::unit_vector(&mut rng).as_dvec3();
             let aim = a + n * r;
             let (h, sp) = at(&Ray::new((aim + n * 2.0 * r).as_vec3(), (-n).as_vec3()));
-            if h.object != 0 {
+            if name(h.object) != "a" {
                 continue;
             }
             let mut d = common::unit_vector(&mut rng);
@@ -763,7 +776,7 @@ fn secondary_rays_from_a_tiny_sphere_reach_a_neighbour_half_a_radius_away_at_any
             }
             let found = closest_hit(&scene, &Ray::new(sp.spawn(d), d), 0.0, f32::INFINITY);
             assert!(
-                found.is_none_or(|h| h.object != 0),
+                found.is_none_or(|h| name(h.object) != "a"),
                 "distance {distance}: self-shadowed at {} towards {d}",
                 sp.point
             );
@@ -780,7 +793,7 @@ fn grazing_rays_from_far_away_hit_or_miss_as_exact_arithmetic_says() {
     let (centre, radius) = (Vec3::new(0.1, -0.3, 0.2), 1.0f32);
     let scene: TraceScene = TraceScene::build(&[object(Placed::Sphere { centre, radius })], tables(), 2.0);
     let mut rng = common::rng(17);
-    let (mut checked, mut naive_wrong) = (0, 0);
+    let (mut checked, mut naive_wrong, mut haines_wrong) = (0, 0, 0);
     for far in [1e3f64, 1e4, 1e5, 1e6] {
         for _ in 0..500 {
             let u = common::unit_vector(&mut rng).as_dvec3();
@@ -814,8 +827,14 @@ fn grazing_rays_from_far_away_hit_or_miss_as_exact_arithmetic_says() {
             let (of32, d32) = (o - centre, d / d.length());
             let b = of32.dot(d32);
             naive_wrong += u32::from((b * b - (of32.dot(of32) - 1.0) >= 0.0) != hits);
+            // Haines et al.'s discriminant alone, in f32, without the f64 re-check.
+            let l32 = of32 - b * d32;
+            haines_wrong += u32::from((1.0 - l32.dot(l32) >= 0.0) != hits);
         }
     }
+    eprintln!(
+        "grazing rays: {checked} decided; wrong in plain f32: {naive_wrong} (textbook), {haines_wrong} (Haines et al.)"
+    );
     assert!(checked >= 1_900, "only {checked} decidable cases");
     assert!(naive_wrong > 100, "plain f32 got only {naive_wrong} wrong: the table is too easy");
 }
@@ -1006,6 +1025,51 @@ proptest::proptest! {
                 let tol = 1e-5 * exit + 16.0 * ulp(sp.point) as f64 / cos;
                 proptest::prop_assert!(t.is_some_and(|t| (t - exit).abs() <= tol),
                     "inwards from {} along {d}: {t:?}, expected {exit} ± {tol}", sp.point);
+            }
+        }
+    }
+}
+
+#[test]
+fn offsets_at_every_scale_are_a_few_float_steps_of_the_hit_point() {
+    // Spheres of radius 1e-4, 1 and 1e4 with their centre 0, 1, 1e3 and 1e5 radii from the
+    // snapshot's origin (the camera): the offset a secondary ray starts at, measured over points
+    // all over the sphere, against the float spacing of the sphere's coordinates (at
+    // |centre| + radius) and against the radius. The
+    // old rule, `max(|p|, floor)/8192`, is printed beside it (run with --nocapture).
+    eprintln!("| radius | centre from origin | offset median | offset max | max / radius | max / ulp(|c| + r) | old / radius |");
+    eprintln!("|---|---|---|---|---|---|---|");
+    for radius in [1e-4f32, 1.0, 1e4] {
+        for distance in [0.0f32, 1.0, 1e3, 1e5] {
+            let centre = Vec3::new(0.6, 0.48, 0.64) * distance * radius;
+            let sphere = object(Placed::Sphere { centre, radius });
+            let scene: TraceScene = TraceScene::build(&[sphere], tables(), 2.0);
+            let mut rng = common::rng(distance.to_bits() as u64 ^ radius.to_bits() as u64);
+            let (mut offsets, mut worst_steps) = (Vec::new(), 0.0f32);
+            for _ in 0..2_000 {
+                let n = common::unit_vector(&mut rng);
+                let incoming = Ray::new(centre + n * radius * 3.0, -n);
+                let hit = closest_hit(&scene, &incoming, 0.0, f32::INFINITY).expect("aimed at the sphere");
+                let sp = scene.store.surface(&hit, &incoming);
+                let offset = (sp.spawn(sp.normal) - sp.point).length();
+                assert!(offset > 0.0 && offset >= sp.error, "{sp:?}");
+                worst_steps = worst_steps.max(offset / ulp(centre.abs() + Vec3::splat(radius)));
+                offsets.push(offset);
+            }
+            offsets.sort_by(f32::total_cmp);
+            let (median, max) = (offsets[offsets.len() / 2], offsets[offsets.len() - 1]);
+            let old = (centre.abs().max_element() + radius).max(radius * 1e-3) / 8192.0;
+            eprintln!(
+                "| {radius:e} | {:e} | {median:.2e} | {max:.2e} | {:.1e} | {worst_steps:.1} | {:.1e} |",
+                distance * radius,
+                max / radius,
+                old / radius
+            );
+            // A few float steps of the sphere's coordinates, so a sliver of the radius when the
+            // sphere is near the camera.
+            assert!(worst_steps <= 32.0, "radius {radius}, distance {distance}: {worst_steps} steps");
+            if distance <= 1.0 {
+                assert!(max <= 1e-5 * radius, "radius {radius}, distance {distance}: {max}");
             }
         }
     }

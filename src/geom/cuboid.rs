@@ -20,12 +20,11 @@ pub struct CuboidHit {
 /// The box is closed: touching it is hitting it. A ray lying in a face's plane, along an edge
 /// or through a corner hits where it first meets the closed box, exactly as
 /// [`crate::math::Aabb::clip_ray`] clips rays to the grid, and the same on all six faces: an
-/// axis along which the ray does not move constrains nothing when the origin lies in that
-/// slab, walls included, and misses otherwise. The slab distances are divided, not multiplied
-/// by a reciprocal, so no `0 × ∞` can make a NaN, and a subnormal direction component cannot
-/// overflow. The face reported is the one whose slab decided `t` (the first axis in x, y, z
-/// order on an edge or corner).
-#[inline]
+/// axis along which the ray does not move (a zero or subnormal component) constrains nothing
+/// when the origin lies in that slab, walls included, and misses otherwise; every other axis
+/// has a finite reciprocal, so no `0 × ∞` can make a NaN. The face reported is the one whose
+/// slab decided `t` (the first axis in x, y, z order on an edge or corner).
+#[inline(always)]
 pub fn intersect(
     world_to_object: &Affine3A,
     min: Vec3,
@@ -36,29 +35,32 @@ pub fn intersect(
 ) -> Option<CuboidHit> {
     let o = world_to_object.transform_point3(ray.origin);
     let d = world_to_object.transform_vector3(ray.dir);
-    let (mut t_near, mut near_axis) = (f32::NEG_INFINITY, 3);
-    let (mut t_far, mut far_axis) = (f32::INFINITY, 3);
-    for axis in 0..3 {
-        if d[axis] == 0.0 {
-            if o[axis] < min[axis] || o[axis] > max[axis] {
-                return None;
-            }
-            continue;
-        }
-        let a = (min[axis] - o[axis]) / d[axis];
-        let b = (max[axis] - o[axis]) / d[axis];
-        let (lo, hi) = if a <= b { (a, b) } else { (b, a) };
-        if lo > t_near {
-            (t_near, near_axis) = (lo, axis);
-        }
-        if hi < t_far {
-            (t_far, far_axis) = (hi, axis);
-        }
-    }
-    if near_axis == 3 || t_near > t_far {
-        // A zero direction, or the slabs do not overlap.
+    // A component too small to have a finite reciprocal (zero or subnormal: less than 1.2e-38
+    // per unit of t) does not move the ray along that axis: it misses unless it lies in the
+    // slab, and constrains nothing there. Every other axis has a finite reciprocal.
+    let still = d.abs().cmplt(Vec3::splat(f32::MIN_POSITIVE));
+    if (still & (o.cmplt(min) | o.cmpgt(max))).any() || still.all() {
         return None;
     }
+    let inv = Vec3::select(still, Vec3::ONE, d.recip());
+    let (a, b) = ((min - o) * inv, (max - o) * inv);
+    let near = Vec3::select(still, Vec3::NEG_INFINITY, a.min(b));
+    let far = Vec3::select(still, Vec3::INFINITY, a.max(b));
+    let (t_near, t_far) = (near.max_element(), far.min_element());
+    if t_near > t_far {
+        return None;
+    }
+    // The first axis in x, y, z order that decided each end.
+    let first = |v: Vec3, t: f32| {
+        if v.x == t {
+            0
+        } else if v.y == t {
+            1
+        } else {
+            2
+        }
+    };
+    let (near_axis, far_axis) = (first(near, t_near), first(far, t_far));
     // The entering face when it is ahead, else the exit face (origin inside the box).
     let (t, axis, sign) = if t_near > t_min && t_near < t_max {
         // Entering through a face means moving against its outward normal.

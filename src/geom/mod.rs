@@ -1,8 +1,8 @@
 //! Shapes: one file each, with bounds and ray intersection as plain functions over plain values,
 //! so every primitive store (structure-of-arrays or array-of-structures) shares the same maths.
 //!
-//! Intersections return the ray parameter of the nearest hit strictly inside `(t_min, t_max)`.
-//! Rays are unit length in world space.
+//! Intersections return the ray parameter of the nearest hit strictly inside `(t_min, t_max)`,
+//! for directions of any non-zero length, in units of that length (`origin + t·dir`).
 //!
 //! Two precisions meet here. A [`Shape`] is authored geometry: its positions (a sphere's
 //! centre, a plane's point, vertices, a box's corners) are `f64`, like the transforms that

@@ -24,30 +24,56 @@ pub fn bounds(centre: Vec3, radius: f32) -> Aabb {
 /// - a root is taken only when it exceeds `t_min` by more than its own error bound, so a ray
 ///   leaving the surface (offset by its error bound, see [`surface_point`]) never finds the
 ///   surface it left at a tiny `t` (pbrt-v4's conservative root test).
-#[inline]
+#[inline(always)]
 pub fn intersect(centre: Vec3, radius: f32, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
     let d = ray.dir;
     let f = ray.origin - centre;
     let a = d.dot(d);
     let b = -f.dot(d);
-    let l = f + (b / a) * d;
+    // The closest approach is at `b / a`; a unit direction (the tracer's) skips the division,
+    // which changes `b` by at most 3 ulps, inside the error bound below.
+    let s = if unit(a) { b } else { b / a };
+    let l = f + s * d;
     let r2 = radius * radius;
     let ll = l.dot(l);
     let disc = r2 - ll;
-    let ff = f.dot(f);
-    if disc.abs() <= discriminant_error(f, d, a, ll, ff, r2) {
-        return intersect_f64(centre, radius, ray, t_min, t_max);
+    // `l` is off by at most γ(12)·(|f_i| + m·|d_i|) ≤ 2·γ(12)·|f| per component
+    // (`m = (|f|·|d|)/a`, Cauchy–Schwarz), so `|l|²` by at most 4·γ(12)·|l|·|f| + … ≤
+    // 2·γ(12)·(|l|² + |f|²), and `r²` by half an ulp: a cheap bound (with `|f|² = |l|² + s·b`,
+    // a sum of two positive terms, so no dot product is spent on it); only rays inside it get the
+    // tight one.
+    if disc.abs() <= ll * COARSE_LL + s * b * COARSE_SB + r2 * COARSE_R2 {
+        return near_tangent(centre, radius, ray, t_min, t_max, (f, a, b, ll));
     }
     if disc < 0.0 {
         return None;
     }
-    let c = ff - r2;
+    roots(a, b, disc, f.dot(f), r2, t_min, t_max)
+}
+
+/// The cheap bound `2·γ(13)·(2·|l|² + s·b) + γ(3)·(|l|² + r²)`, its terms gathered.
+const COARSE_LL: f32 = 4.0 * gamma(13) + gamma(3);
+const COARSE_SB: f32 = 2.0 * gamma(13);
+const COARSE_R2: f32 = gamma(3);
+
+/// True when `a = dir·dir` is 1 to within its rounding: a unit direction.
+#[inline]
+fn unit(a: f32) -> bool {
+    (a - 1.0).abs() <= 4.0 * f32::EPSILON
+}
+
+/// The nearer root of the two in `(t_min, t_max)` that clears `t_min` by its error bound.
+#[inline(always)]
+fn roots(a: f32, b: f32, disc: f32, ff: f32, r2: f32, t_min: f32, t_max: f32) -> Option<f32> {
     let q = b + (a * disc).sqrt().copysign(b);
-    let (t0, t1) = (c / q, q / a);
-    // Bound on either root's rounding error: the error of `c` over `|q|`, and a few ulps of the root.
-    let spread = gamma(8) * (ff + r2) / q.abs();
+    let t0 = (ff - r2) / q;
+    let t1 = if unit(a) { q } else { q / a };
     let (near, far) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
-    let inside = |t: f32| t - (spread + gamma(8) * t.abs()) > t_min && t < t_max;
+    // Either root is off by the error of `c = |f|² − r²` over `|q|` plus a few ulps of itself:
+    // `t − t_min > γ(8)·((|f|² + r²)/|q| + |t|)`, multiplied through by `|q|`.
+    let c_error = gamma(8) * (ff + r2);
+    let qa = q.abs();
+    let inside = |t: f32| t > t_min && t < t_max && (t - t_min - gamma(8) * t.abs()) * qa > c_error;
     if inside(near) {
         Some(near)
     } else if inside(far) {
@@ -57,21 +83,34 @@ pub fn intersect(centre: Vec3, radius: f32, ray: &Ray, t_min: f32, t_max: f32) -
     }
 }
 
-/// A bound on the rounding error of `r² − |l|²` as [`intersect`] computes it: `l`'s components
-/// are off by at most `γ(9)·(|f_i| + m·|d_i|)` with `m = (|f|·|d|)/a`, so `|l|²` is off by
-/// at most `2·|l|·|δl| + |δl|² + γ(3)·|l|²`, and `r²` by half an ulp. The square root is
-/// taken only for rays near the tangent, where a cheap bound says it could matter.
-#[inline]
-fn discriminant_error(f: Vec3, d: Vec3, a: f32, ll: f32, ff: f32, r2: f32) -> f32 {
-    // |δl| ≤ γ(9)·(|f| + m·|d|) ≤ 2·γ(9)·|f| (Cauchy–Schwarz), so 2·|l|·|δl| ≤ 4·γ(9)·|l|·|f|.
-    let coarse = gamma(9) * 2.0 * (ll + ff) + gamma(3) * (ll + r2);
-    if (r2 - ll).abs() > coarse {
-        return 0.0;
-    }
+/// A ray the cheap bound could not decide: the tight bound on the rounding error of
+/// `r² − |l|²` (`2·|l|·|δl| + |δl|² + γ(3)·(|l|² + r²)` with `|δl_i| ≤ γ(12)·(|f_i| + m·|d_i|)`),
+/// and, within it, the whole test again in f64.
+#[cold]
+#[inline(never)]
+fn near_tangent(
+    centre: Vec3,
+    radius: f32,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+    (f, a, b, ll): (Vec3, f32, f32, f32),
+) -> Option<f32> {
+    let d = ray.dir;
+    let ff = f.dot(f);
+    let r2 = radius * radius;
     let m = f.abs().dot(d.abs()) / a;
-    let dl = (f.abs() + d.abs() * m) * gamma(9);
+    let dl = (f.abs() + d.abs() * m) * gamma(12);
     let dl2 = dl.dot(dl);
-    2.0 * (ll * dl2).sqrt() + dl2 + gamma(3) * (ll + r2)
+    let error = 2.0 * (ll * dl2).sqrt() + dl2 + gamma(3) * (ll + r2);
+    let disc = r2 - ll;
+    if disc.abs() <= error {
+        return intersect_f64(centre, radius, ray, t_min, t_max);
+    }
+    if disc < 0.0 {
+        return None;
+    }
+    roots(a, b, disc, ff, r2, t_min, t_max)
 }
 
 /// [`intersect`] carried out in f64: for rays within f32's rounding error of the tangent.
@@ -111,8 +150,14 @@ fn intersect_f64(centre: Vec3, radius: f32, ray: &Ray, t_min: f32, t_max: f32) -
 #[inline]
 pub fn surface_point(centre: Vec3, radius: f32, ray: &Ray, t: f32) -> (Vec3, Vec3, f32) {
     let p = ray.at(t);
-    let Some((n, _)) = unit_and_length(p - centre) else {
-        return (p, normal(centre, radius, p, ray), radius + gamma(2) * p.abs().max_element());
+    let v = p - centre;
+    let n = match v.normalize_or_zero() {
+        n if n != Vec3::ZERO => n,
+        // |p − c|² underflowed or overflowed: scale first.
+        _ => match unit_and_length(v) {
+            Some((n, _)) => n,
+            None => return (p, normal(centre, radius, p, ray), radius + gamma(2) * p.abs().max_element()),
+        },
     };
     let local = n * radius;
     let point = centre + local;

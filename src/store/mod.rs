@@ -139,6 +139,9 @@ pub trait TriangleLayout: Send + Sync + Sized + std::fmt::Debug + 'static {
 }
 
 /// A layout of flattened primitives that the tracer can intersect.
+///
+/// Every method takes directions of any non-zero length, with `t` in units of that length (mesh
+/// instances hand their object-space rays to the mesh grid without renormalising them).
 pub trait PrimitiveStore: Send + Sync + Sized + std::fmt::Debug + 'static {
     /// The layout of mesh triangles in this store.
     type Triangles: TriangleLayout;

@@ -14,6 +14,8 @@ use crate::store::{Hit, PrimitiveStore, TraversalCost};
 
 /// Nearest hit in `(t_min, t_max)`: planes first, then the grid's cells front to back.
 ///
+/// The direction may have any non-zero length; `t` is in units of it.
+///
 /// A hit found in a cell is final once it lies within that cell's t-range: no later cell can
 /// hold a nearer one. A hit beyond the range (an object reaching into later cells) is kept as
 /// the bound for the rest of the walk, so it is never tested again at a larger t.
@@ -97,7 +99,8 @@ impl Nearest {
     }
 }
 
-/// Fraction of light that passes along `ray` over `(0, t_max)`: 0 behind an opaque object,
+/// Fraction of light that passes along `ray` over `(0, t_max)` (`t` in units of the direction's
+/// length, which may be any): 0 behind an opaque object,
 /// the product of `kt` over every surface crossed otherwise.
 ///
 /// Each object is handled whole the first time the walk meets it: all its crossings in
