@@ -143,31 +143,16 @@ pub const SHADOW_EPSILON: f32 = 1.0 / 8192.0;
 ///
 /// `error` is a conservative bound on the distance between `p` and the true surface along `n`
 /// (each shape computes its own, see [`crate::store::SurfacePoint::error`]). The point moves
-/// that far along `n`, then each coordinate is rounded one float further away from the surface,
-/// so that the rounding of the addition cannot bring it back. The offset depends on the
-/// arithmetic that produced `p`, not on how far `p` lies from the world origin.
+/// that far along `n`, plus two units of roundoff of each coordinate in the same direction, so
+/// that rounding the sum (half a unit at most) cannot bring it back: every coordinate that moves
+/// ends at least `error·|n_i|` out, as pbrt's one-float nudge ensures, without a branch per
+/// coordinate. The offset depends on the arithmetic that produced `p`, not on how far `p` lies
+/// from the world origin.
 #[inline]
 pub fn offset_origin(p: Vec3, error: f32, n: Vec3, dir: Vec3) -> Vec3 {
     let offset = if dir.dot(n) < 0.0 { n * -error } else { n * error };
-    let po = (p + offset).to_array();
-    let o = offset.to_array();
-    Vec3::from_array(std::array::from_fn(|i| step_away(po[i], o[i])))
-}
-
-/// `x` moved one float in the direction of `sign`'s sign (unchanged when `sign` is zero): the
-/// bit-level `next_up`/`next_down` for the finite values offsets produce, without branches on
-/// the signs (which follow the normals and would be mispredicted half the time).
-#[inline(always)]
-fn step_away(x: f32, sign: f32) -> f32 {
-    debug_assert!(x.is_finite(), "offset points are finite");
-    if x == 0.0 {
-        return if sign == 0.0 { x } else { f32::from_bits(1).copysign(sign) };
-    }
-    let bits = x.to_bits();
-    let moves = u32::from(sign != 0.0);
-    // 1 when `x` and `sign` differ in sign: the step goes towards zero, a smaller magnitude.
-    let towards_zero = (bits ^ sign.to_bits()) >> 31;
-    f32::from_bits(bits.wrapping_add(moves).wrapping_sub(2 * towards_zero * moves))
+    let spare = ((p.abs() + offset.abs()) * (2.0 * UNIT_ROUNDOFF)).copysign(offset);
+    p + offset + Vec3::select(offset.cmpeq(Vec3::ZERO), Vec3::ZERO, spare)
 }
 
 /// The entry-wise absolute value of a matrix, for bounding the rounding of a transform.
@@ -235,12 +220,27 @@ mod tests {
     }
 
     #[test]
-    fn step_away_is_next_up_or_next_down_by_the_sign() {
-        for x in [1.0f32, -1.0, 3.5e-30, -7.25e12, f32::MIN_POSITIVE, -f32::MIN_POSITIVE, 1e-45, 0.0, -0.0] {
-            assert_eq!(step_away(x, 2.0).to_bits(), x.next_up().to_bits(), "{x} up");
-            assert_eq!(step_away(x, -0.5).to_bits(), x.next_down().to_bits(), "{x} down");
-            assert_eq!(step_away(x, 0.0).to_bits(), x.to_bits(), "{x} still");
-            assert_eq!(step_away(x, -0.0).to_bits(), x.to_bits(), "{x} still");
+    fn an_offset_origin_is_at_least_the_error_out_on_every_moving_axis() {
+        // Points where rounding the sum would pull a plain `p + n·error` back, all signs.
+        for p in [Vec3::new(1.0, -3.0, 7.5e5), Vec3::new(-1e-30, 2.5, -0.0), Vec3::new(4e7, -4e7, 1.0)] {
+            for n in [Vec3::new(0.6, 0.0, -0.8), Vec3::new(-0.36, 0.48, 0.8), Vec3::Y] {
+                let error = 1e-9;
+                for dir in [n, -n] {
+                    let po = offset_origin(p, error, n, dir);
+                    let side = if dir.dot(n) < 0.0 { -n } else { n };
+                    for i in 0..3 {
+                        let moved = (po[i] as f64 - p[i] as f64) * side[i].signum() as f64;
+                        if side[i] == 0.0 {
+                            assert_eq!(po[i], p[i], "{p} {n}: axis {i} moved");
+                        } else {
+                            assert!(
+                                moved >= (error * side[i].abs()) as f64 && moved > 0.0,
+                                "{p} {n} axis {i}: {moved}"
+                            );
+                        }
+                    }
+                }
+            }
         }
     }
 

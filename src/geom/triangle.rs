@@ -121,14 +121,29 @@ pub fn intersect(
 
 /// The hit point at barycentrics `(u, v)` of `v1`, `v2`, interpolated from the vertices (which,
 /// unlike `origin + t·dir`, does not carry the error of `t`), and a conservative bound on its
-/// distance from the triangle's plane along the unit normal `n`: pbrt-v4's
-/// `γ(7)·(|b0·v0| + |b1·v1| + |b2·v2|)` per axis, projected on `|n|`.
+/// distance from the triangle's plane along the unit normal `n`, as [`intersect`] will see a
+/// ray starting there: pbrt-v4's `γ(7)·(|b0·v0| + |b1·v1| + |b2·v2|)` per axis, projected on
+/// `|n|`, for the point, plus [`TEST_ERROR`] times the vertices' distance from it, for the test.
 #[inline]
 pub fn surface_point(v0: Vec3, v1: Vec3, v2: Vec3, u: f32, v: f32, n: Vec3) -> (Vec3, f32) {
     let b0 = 1.0 - u - v;
     let point = v0 * b0 + v1 * u + v2 * v;
     let error = ((v0 * b0).abs() + (v1 * u).abs() + (v2 * v).abs()) * gamma(7);
-    (point, error.dot(n.abs()))
+    (point, error.dot(n.abs()) + TEST_ERROR * reach(v0, v1, v2, point))
+}
+
+/// How far the test's own rounding can put a ray origin from the triangle's plane, per unit of
+/// the vertices' distance from it. The watertight test works on the vertices relative to the
+/// origin; pbrt-v4's bound on the error of its `t` (section 6.8.7) is, times the cosine between
+/// the ray and the normal, at most about γ(40) of that distance, whatever the direction: an
+/// origin farther out than this from the plane gets the sign of `t` right.
+pub const TEST_ERROR: f32 = gamma(48);
+
+/// A bound on the distance from `p` to the farthest vertex (√3 times the largest coordinate
+/// difference: no square root).
+#[inline]
+pub fn reach(v0: Vec3, v1: Vec3, v2: Vec3, p: Vec3) -> f32 {
+    (v0 - p).abs().max((v1 - p).abs()).max((v2 - p).abs()).max_element() * 1.7321
 }
 
 /// Whether a ray exactly on the edge whose function is `f.x * g.y - f.y * g.x` counts as

@@ -242,7 +242,9 @@ pub fn instance_surface<L: TriangleLayout>(
             let rel = back - a;
             // The computed normal's direction is off by about γ(8)·|e1|·|e2| / |e1 × e2| radians.
             let tilt = gamma(8) * (e1.length_squared() * e2.length_squared() / local.length_squared()).sqrt();
-            let residual = rel.dot(n).abs() + rel.length() * (gamma(4) + tilt);
+            // The triangle test's own rounding, for a ray starting there (object units).
+            let test = triangle::TEST_ERROR * triangle::reach(a, b, c, p);
+            let residual = rel.dot(n).abs() + rel.length() * (gamma(4) + tilt) + test;
             let mapping = 2.0 * transform_error(to_object, point).dot(n.abs());
             (residual + mapping) / normal_map.mul_vec3(n).length()
         }
