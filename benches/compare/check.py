@@ -32,6 +32,7 @@ class KindCheck:
     povray: int
     low: float
     high: float
+    note: str = ""
 
     @property
     def ok(self):
@@ -42,7 +43,8 @@ class KindCheck:
             want = "%d" % self.low
         else:
             want = "%.0f..%.0f" % (self.low, self.high)
-        return "%s: Penumbra %d, POV-Ray %d (want %s)" % (self.kind, self.penumbra, self.povray, want)
+        note = ", " + self.note if self.note else ""
+        return "%s: Penumbra %d, POV-Ray %d (want %s%s)" % (self.kind, self.penumbra, self.povray, want, note)
 
 
 def widen(low, high, tolerance=TOLERANCE):
@@ -56,7 +58,8 @@ def check_rays(penumbra, povray, antialiased, transmissive):
     pen_primary = pen.get("camera", 0) + pen.get("lens", 0)
     initial = stats["pixels"] if antialiased else 0
     pov_primary = pov.get("camera", 0)
-    checks = [KindCheck("camera", pen_primary, pov_primary - initial, pen_primary, pen_primary)]
+    note = "POV-Ray's %d first rays per pixel taken off" % initial if initial else ""
+    checks = [KindCheck("camera", pen_primary, pov_primary - initial, pen_primary, pen_primary, note)]
     per_camera_ray = pov_primary / pen_primary if pen_primary else 1.0
 
     for kind in ("reflection", "refraction"):

@@ -371,6 +371,9 @@ def main(argv):
     print(report.rays_table(results))
     for line in report.warnings(results):
         print("\n" + line)
+    for r in results:
+        for note in r["twin_notes"]:
+            print("\nnote %s: %s" % (r["scene"], note))
     embree = report.embree_table(results)
     if embree:
         print(

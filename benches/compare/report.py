@@ -19,6 +19,12 @@ def table(header, rows):
     return "\n".join(lines)
 
 
+def spread(summary):
+    """(slowest − fastest) / median trace time of a program's runs, in percent."""
+    times = [r["trace_s"] for r in summary["runs"]]
+    return 100.0 * (max(times) - min(times)) / summary["trace_s"]
+
+
 def renderer_table(results):
     """POV-Ray against Penumbra, one row per scene: medians of trace and whole-process time."""
     rows = []
@@ -30,6 +36,7 @@ def renderer_table(results):
                 "%.3f" % pov["trace_s"],
                 "%.3f" % pen["trace_s"],
                 "%.2f×" % (pov["trace_s"] / pen["trace_s"]),
+                "%.0f %% / %.0f %%" % (spread(pov), spread(pen)),
                 "%.2f" % pov["whole_s"],
                 "%.2f" % pen["whole_s"],
                 "%.2f×" % (pov["whole_s"] / pen["whole_s"]),
@@ -44,6 +51,7 @@ def renderer_table(results):
             "POV-Ray trace s",
             "Penumbra trace s",
             "trace ratio",
+            "trace spread POV-Ray / Penumbra",
             "POV-Ray whole s",
             "Penumbra whole s",
             "whole ratio",
