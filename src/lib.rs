@@ -15,6 +15,7 @@ pub mod report;
 pub mod sample;
 pub mod scene;
 pub mod script;
+pub mod simd;
 pub mod store;
 pub mod trace;
 pub mod world;

@@ -94,6 +94,9 @@ pub struct RenderSettings {
     /// Secondary rays (reflection, refraction, glossy, blurry) one camera sample may trace;
     /// see [`super::integrator::RayBudget`].
     pub max_secondary_rays: u32,
+    /// Which path traces the rays: packets at an instruction-set level, or single rays (the
+    /// image is the same bits on every one).
+    pub simd: crate::simd::SimdLevel,
 }
 
 impl Default for RenderSettings {
@@ -110,6 +113,7 @@ impl Default for RenderSettings {
             lens: Sampling::default(),
             glossy: Sampling { samples: 8, pattern: Pattern::Jittered },
             max_secondary_rays: DEFAULT_MAX_SECONDARY_RAYS,
+            simd: crate::simd::SimdLevel::Auto,
         }
     }
 }
@@ -185,6 +189,7 @@ pub fn render_observed<S: PrimitiveStore>(
         ..Default::default()
     };
     stats.times.trace = started.elapsed().as_secs_f64();
+    stats.simd = settings.simd.resolve();
     stats.grid = GridStats {
         dims: scene.grid.dims,
         objects: scene.store.bounded_count(),

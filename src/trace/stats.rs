@@ -375,6 +375,8 @@ pub struct RenderStats {
     pub traversal: TraversalStats,
     /// What the per-camera-sample budget of secondary rays did.
     pub ray_budget: BudgetStats,
+    /// The path that traced the rays (`--simd`, resolved: never `auto`).
+    pub simd: crate::simd::SimdLevel,
 }
 
 impl Serialize for RenderStats {
@@ -394,8 +396,9 @@ impl Serialize for RenderStats {
             grid,
             traversal,
             ray_budget,
+            simd,
         } = self;
-        let mut s = serializer.serialize_struct("RenderStats", 14)?;
+        let mut s = serializer.serialize_struct("RenderStats", 15)?;
         s.serialize_field("width", width)?;
         s.serialize_field("height", height)?;
         s.serialize_field("threads", threads)?;
@@ -410,6 +413,7 @@ impl Serialize for RenderStats {
         s.serialize_field("grid", grid)?;
         s.serialize_field("traversal", traversal)?;
         s.serialize_field("ray_budget", ray_budget)?;
+        s.serialize_field("simd", simd.name())?;
         s.end()
     }
 }

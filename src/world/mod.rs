@@ -130,6 +130,7 @@ impl<S: PrimitiveStore + 'static> SceneWorld<S> {
             lens: s.lens,
             glossy: s.glossy,
             max_secondary_rays: s.max_secondary_rays,
+            simd: crate::simd::SimdLevel::Auto,
         }
     }
 

@@ -1,0 +1,163 @@
+//! Instruction-set levels of the packet tracer, detected once and dispatched safely.
+//!
+//! The packet kernels ([`crate::trace::packet`]) are written as plain loops over fixed-width
+//! lane arrays. [`SimdLevel::run`] calls them inside a function compiled with the level's
+//! target features (through `pulp`, which checks the CPU before it enables anything), so LLVM
+//! turns the same loops into SSE2, AVX2 or AVX-512 code. No `unsafe` here: `pulp` confines it.
+//!
+//! Every level performs the same IEEE operations in the same order: Rust never contracts a
+//! multiply and an add into a fused one, vectorising element-wise float arithmetic does not
+//! reorder it, and the kernels use no approximate reciprocal or square root. So a frame traced
+//! at any level, or by the single-ray reference path (`scalar`), is the same bits: a cluster of
+//! mixed CPUs renders one sequence.
+
+use std::fmt;
+use std::str::FromStr;
+
+/// Which path traces a frame's rays: the single-ray reference, or packets at an instruction
+/// set level.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum SimdLevel {
+    /// The best level this CPU has ([`SimdLevel::detect`]).
+    #[default]
+    Auto,
+    /// Single rays through the scalar DDA: the reference every other level must equal.
+    Scalar,
+    /// Packets, compiled for the x86-64 baseline (SSE2) or the target's default.
+    Baseline,
+    /// Packets, with AVX2 and FMA enabled (x86-64-v3).
+    Avx2,
+    /// Packets, with AVX-512 F/BW/CD/DQ/VL enabled (x86-64-v4).
+    Avx512,
+}
+
+impl SimdLevel {
+    /// Every level, in the order they are listed.
+    pub const ALL: [SimdLevel; 5] =
+        [SimdLevel::Auto, SimdLevel::Scalar, SimdLevel::Baseline, SimdLevel::Avx2, SimdLevel::Avx512];
+
+    /// The best level this CPU supports (checked once per call; cheap).
+    pub fn detect() -> SimdLevel {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if pulp::x86::V4::try_new().is_some() {
+                return SimdLevel::Avx512;
+            }
+            if pulp::x86::V3::try_new().is_some() {
+                return SimdLevel::Avx2;
+            }
+        }
+        SimdLevel::Baseline
+    }
+
+    /// True when this CPU can run the level (`Auto`, `Scalar` and `Baseline` always can).
+    pub fn available(self) -> bool {
+        match self {
+            SimdLevel::Auto | SimdLevel::Scalar | SimdLevel::Baseline => true,
+            #[cfg(target_arch = "x86_64")]
+            SimdLevel::Avx2 => pulp::x86::V3::try_new().is_some(),
+            #[cfg(target_arch = "x86_64")]
+            SimdLevel::Avx512 => pulp::x86::V4::try_new().is_some(),
+            #[cfg(not(target_arch = "x86_64"))]
+            _ => false,
+        }
+    }
+
+    /// The concrete level a render uses: `Auto` becomes the detected one, and a level this CPU
+    /// lacks falls back to the best one it has (the image is the same either way; the CLI
+    /// refuses such a request before it gets here).
+    pub fn resolve(self) -> SimdLevel {
+        match self {
+            SimdLevel::Auto => SimdLevel::detect(),
+            level if level.available() => level,
+            _ => SimdLevel::detect(),
+        }
+    }
+
+    /// True for the levels that trace packets.
+    pub fn packets(self) -> bool {
+        !matches!(self.resolve(), SimdLevel::Scalar)
+    }
+
+    /// Runs `f` compiled for this level's target features (inlined code in `f` is vectorised
+    /// for them); `Auto` is resolved first. On levels the CPU lacks it runs `f` as it is.
+    #[inline(always)]
+    pub fn run<R>(self, f: impl FnOnce() -> R) -> R {
+        match self.resolve() {
+            #[cfg(target_arch = "x86_64")]
+            SimdLevel::Avx512 => match pulp::x86::V4::try_new() {
+                Some(v4) => v4.vectorize(f),
+                None => f(),
+            },
+            #[cfg(target_arch = "x86_64")]
+            SimdLevel::Avx2 => match pulp::x86::V3::try_new() {
+                Some(v3) => v3.vectorize(f),
+                None => f(),
+            },
+            _ => f(),
+        }
+    }
+
+    /// The level's name as `--simd` takes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            SimdLevel::Auto => "auto",
+            SimdLevel::Scalar => "scalar",
+            SimdLevel::Baseline => "baseline",
+            SimdLevel::Avx2 => "avx2",
+            SimdLevel::Avx512 => "avx512",
+        }
+    }
+}
+
+impl fmt::Display for SimdLevel {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A `--simd` value that names no level.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown SIMD level `{0}` (expected one of auto, scalar, baseline, avx2, avx512)")]
+pub struct UnknownSimdLevel(pub String);
+
+impl FromStr for SimdLevel {
+    type Err = UnknownSimdLevel;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        SimdLevel::ALL
+            .into_iter()
+            .find(|l| l.name().eq_ignore_ascii_case(s))
+            .ok_or_else(|| UnknownSimdLevel(s.to_string()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_unknown_names_are_refused() {
+        for level in SimdLevel::ALL {
+            assert_eq!(level.name().parse::<SimdLevel>(), Ok(level));
+        }
+        assert!("sse9".parse::<SimdLevel>().unwrap_err().to_string().contains("avx512"));
+    }
+
+    #[test]
+    fn auto_resolves_to_an_available_packet_level() {
+        let level = SimdLevel::Auto.resolve();
+        assert!(level.available() && level != SimdLevel::Auto && level != SimdLevel::Scalar);
+        assert!(SimdLevel::Scalar.resolve() == SimdLevel::Scalar && !SimdLevel::Scalar.packets());
+    }
+
+    #[test]
+    fn every_level_runs_the_same_float_arithmetic() {
+        let a: Vec<f32> = (0..64).map(|i| 1.0 + i as f32 * 0.37).collect();
+        let f = || a.iter().map(|&x| (x * 1.1 + 0.3) / (x + 2.0).sqrt()).collect::<Vec<f32>>();
+        let want = f();
+        for level in SimdLevel::ALL {
+            assert_eq!(level.run(f), want, "{level}");
+        }
+    }
+}
