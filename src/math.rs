@@ -202,6 +202,78 @@ pub fn unit_and_length(v: Vec3) -> Option<(Vec3, f32)> {
     Some((u / len, m * len))
 }
 
+/// `N` rays in structure-of-arrays form, with each lane's parametric range.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RayPacket<const N: usize> {
+    /// Origins, one array per axis.
+    pub origin: [[f32; N]; 3],
+    /// Directions (any non-zero length), one array per axis.
+    pub dir: [[f32; N]; 3],
+    /// Reciprocal directions, one array per axis.
+    pub inv_dir: [[f32; N]; 3],
+    /// Lower end of each lane's range (exclusive).
+    pub t_min: [f32; N],
+    /// Upper end of each lane's range (exclusive).
+    pub t_max: [f32; N],
+    /// Lanes that carry a ray.
+    pub active: [bool; N],
+}
+
+impl<const N: usize> Default for RayPacket<N> {
+    fn default() -> Self {
+        Self {
+            origin: [[0.0; N]; 3],
+            dir: [[0.0; N]; 3],
+            inv_dir: [[0.0; N]; 3],
+            t_min: [0.0; N],
+            t_max: [0.0; N],
+            active: [false; N],
+        }
+    }
+}
+
+impl<const N: usize> RayPacket<N> {
+    /// Puts `ray` with range `(t_min, t_max)` in lane `i` and marks it active.
+    #[inline]
+    pub fn set(&mut self, i: usize, ray: &Ray, t_min: f32, t_max: f32) {
+        let inv = ray.dir.recip();
+        for axis in 0..3 {
+            self.origin[axis][i] = ray.origin[axis];
+            self.dir[axis][i] = ray.dir[axis];
+            self.inv_dir[axis][i] = inv[axis];
+        }
+        self.t_min[i] = t_min;
+        self.t_max[i] = t_max;
+        self.active[i] = true;
+    }
+
+    /// The ray in lane `i`.
+    #[inline]
+    pub fn ray(&self, i: usize) -> Ray {
+        Ray::new(
+            Vec3::new(self.origin[0][i], self.origin[1][i], self.origin[2][i]),
+            Vec3::new(self.dir[0][i], self.dir[1][i], self.dir[2][i]),
+        )
+    }
+
+    /// The packet mapped into an instance's object space lane by lane, exactly as
+    /// [`crate::store::mesh::object_ray`] maps a single ray (ranges and lanes unchanged).
+    #[inline]
+    pub fn mapped(&self, to_object: &Affine3A, live: &[bool; N]) -> Self {
+        let mut out = Self { t_min: self.t_min, t_max: self.t_max, active: *live, ..Self::default() };
+        for i in 0..N {
+            if live[i] {
+                let local = Ray::new(
+                    to_object.transform_point3(self.ray(i).origin),
+                    to_object.transform_vector3(self.ray(i).dir),
+                );
+                out.set(i, &local, self.t_min[i], self.t_max[i]);
+            }
+        }
+        out
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

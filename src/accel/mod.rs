@@ -2,11 +2,13 @@
 //!
 //! The grid holds `u32` ids of bounded objects; what an id means is the caller's business
 //! (the snapshot maps ids to objects). Layout lives in [`grid`], the parallel build in
-//! [`grid_build`], the walk in [`dda`].
+//! [`grid_build`], the walk in [`dda`], the
+//! packet walk (coherent grid traversal) in [`packet`].
 
 pub mod dda;
 pub mod grid;
 pub mod grid_build;
+pub mod packet;
 
 pub use dda::{CellSpan, GridWalk};
 pub use grid::UniformGrid;

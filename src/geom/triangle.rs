@@ -58,6 +58,18 @@ impl WatertightRay {
         Self { origin: ray.origin, kx, ky, kz, sx: ray.dir[kx] / dz, sy: ray.dir[ky] / dz, sz: 1.0 / dz }
     }
 
+    /// The axis permutation `[kx, ky, kz]`: `kz` the direction's largest axis.
+    #[inline]
+    pub fn permutation(&self) -> [usize; 3] {
+        [self.kx, self.ky, self.kz]
+    }
+
+    /// The shear constants `(s_x, s_y, s_z)`: `d_kx/d_kz`, `d_ky/d_kz`, `1/d_kz`.
+    #[inline]
+    pub fn shear_constants(&self) -> (f32, f32, f32) {
+        (self.sx, self.sy, self.sz)
+    }
+
     /// A vertex relative to the origin, sheared: `(x, y)` in the ray's plane, `z` along it.
     #[inline]
     fn shear(&self, p: Vec3) -> (f32, f32, f32) {
@@ -195,6 +207,134 @@ pub fn overlaps_box(v0: Vec3, v1: Vec3, v2: Vec3, cell: &Aabb) -> bool {
         }
     }
     true
+}
+
+/// A packet prepared for watertight triangle tests: the lanes' shear constants, and the axis
+/// permutation when all live lanes share it (else each lane keeps its own [`WatertightRay`]).
+#[derive(Debug, Clone, Copy)]
+pub struct WatertightPacket<const N: usize> {
+    /// Each lane's own prepared ray (the scalar kernel's input).
+    rays: [Option<WatertightRay>; N],
+    /// The shared permutation `(kx, ky, kz)`, when there is one.
+    common: Option<[usize; 3]>,
+    /// Origins in the permuted axes.
+    o: [[f32; N]; 3],
+    sx: [f32; N],
+    sy: [f32; N],
+    sz: [f32; N],
+}
+
+impl<const N: usize> WatertightPacket<N> {
+    /// The axis permutation all live lanes share, if they do (the vector kernel needs one).
+    pub fn common_permutation(&self) -> Option<[usize; 3]> {
+        self.common
+    }
+
+    /// Prepares the `live` lanes of `packet`.
+    #[inline(always)]
+    pub fn new(packet: &crate::math::RayPacket<N>, live: &[bool; N]) -> Self {
+        let mut p = Self {
+            rays: [None; N],
+            common: None,
+            o: [[0.0; N]; 3],
+            sx: [0.0; N],
+            sy: [0.0; N],
+            sz: [0.0; N],
+        };
+        let mut shared = true;
+        for i in 0..N {
+            if !live[i] {
+                continue;
+            }
+            let w = WatertightRay::new(&packet.ray(i));
+            let perm = w.permutation();
+            match p.common {
+                None if shared => p.common = Some(perm),
+                Some(c) if c != perm => shared = false,
+                _ => {}
+            }
+            let (sx, sy, sz) = w.shear_constants();
+            (p.sx[i], p.sy[i], p.sz[i]) = (sx, sy, sz);
+            p.rays[i] = Some(w);
+        }
+        if !shared {
+            p.common = None;
+        }
+        if let Some(perm) = p.common {
+            for (slot, &axis) in p.o.iter_mut().zip(&perm) {
+                *slot = packet.origin[axis];
+            }
+        }
+        p
+    }
+}
+
+/// Tests triangle `[v0, v1, v2]` (number `index`) against the `live` lanes, each within
+/// `(t_min, best.t)`; a lane it hits nearer gets `record(lane, index, hit)` and its bound moves.
+/// Bit for bit [`triangle::intersect`] on every lane.
+#[inline(always)]
+pub fn triangle_lanes<const N: usize>(
+    [v0, v1, v2]: [Vec3; 3],
+    w: &WatertightPacket<N>,
+    live: &[bool; N],
+    t_min: &[f32; N],
+    bound: &mut [f32; N],
+    mut record: impl FnMut(usize, TriangleHit),
+) {
+    let Some([kx, ky, kz]) = w.common else {
+        for i in 0..N {
+            if let (true, Some(ray)) = (live[i], &w.rays[i]) {
+                if let Some(h) = intersect(v0, v1, v2, ray, t_min[i], bound[i]) {
+                    bound[i] = h.t;
+                    record(i, h);
+                }
+            }
+        }
+        return;
+    };
+    let p = [[v0[kx], v0[ky], v0[kz]], [v1[kx], v1[ky], v1[kz]], [v2[kx], v2[ky], v2[kz]]];
+    let mut hit = [false; N];
+    let mut exact = [false; N];
+    let mut t_hit = [0.0f32; N];
+    let mut det_hit = [0.0f32; N];
+    let mut vw = [[0.0f32; N]; 2];
+    for i in 0..N {
+        // The scalar kernel's shear: `a = p − o`, then `(a_x − s_x·a_z, a_y − s_y·a_z, s_z·a_z)`.
+        let shear = |q: [f32; 3]| {
+            let (ax, ay, az) = (q[0] - w.o[0][i], q[1] - w.o[1][i], q[2] - w.o[2][i]);
+            (ax - w.sx[i] * az, ay - w.sy[i] * az, w.sz[i] * az)
+        };
+        let (ax, ay, az) = shear(p[0]);
+        let (bx, by, bz) = shear(p[1]);
+        let (cx, cy, cz) = shear(p[2]);
+        let u = cx * by - cy * bx;
+        let v = ax * cy - ay * cx;
+        let e = bx * ay - by * ax;
+        exact[i] = live[i] & ((u == 0.0) | (v == 0.0) | (e == 0.0));
+        let outside = ((u < 0.0) | (v < 0.0) | (e < 0.0)) & ((u > 0.0) | (v > 0.0) | (e > 0.0));
+        let det = u + v + e;
+        let t = (u * az + v * bz + e * cz) / det;
+        hit[i] = live[i] & !exact[i] & !outside & (det != 0.0) & (t > t_min[i]) & (t < bound[i]);
+        t_hit[i] = t;
+        det_hit[i] = det;
+        vw[0][i] = v;
+        vw[1][i] = e;
+    }
+    for i in 0..N {
+        if hit[i] {
+            let det = det_hit[i];
+            bound[i] = t_hit[i];
+            record(i, TriangleHit { t: t_hit[i], u: vw[0][i] / det, v: vw[1][i] / det });
+        } else if exact[i] {
+            // On an edge in f32: the scalar kernel's f64 re-check and tie-break decide.
+            if let Some(ray) = &w.rays[i] {
+                if let Some(h) = intersect(v0, v1, v2, ray, t_min[i], bound[i]) {
+                    bound[i] = h.t;
+                    record(i, h);
+                }
+            }
+        }
+    }
 }
 
 #[cfg(test)]

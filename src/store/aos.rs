@@ -5,11 +5,12 @@
 use std::sync::Arc;
 
 use super::mesh::{self, MeshEntry};
+use super::packet::{self, PacketHits};
 use super::{Hit, MaterialId, PlacedObject, PrimitiveStore, SurfacePoint, TraversalCost, TriangleLayout};
 use crate::geom::mesh::MeshData;
 use crate::geom::triangle::{self, TriangleHit, WatertightRay};
 use crate::geom::{plane, sphere, Placed};
-use crate::math::{Affine3A, Ray, Vec3};
+use crate::math::{Affine3A, Ray, RayPacket, Vec3};
 
 /// One triangle: its three vertices side by side.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -172,6 +173,29 @@ impl PrimitiveStore for AosStore {
             return mesh::occluded(&self.meshes[*mesh as usize], &local, t_min, t_max, cost);
         }
         self.intersect_bounded(id, ray, t_min, t_max, cost).is_some()
+    }
+
+    #[inline(always)]
+    fn intersect_bounded_packet<const N: usize>(
+        &self,
+        id: u32,
+        packet: &RayPacket<N>,
+        live: &[bool; N],
+        hits: &mut PacketHits<N>,
+        cost: &mut TraversalCost,
+    ) {
+        match &self.objects[id as usize].shape {
+            AosShape::Instance { to_object, mesh } => {
+                let mesh = &self.meshes[*mesh as usize];
+                packet::instance_hits(mesh, to_object, id, packet, live, hits, cost)
+            }
+            AosShape::Triangles { first, count } => {
+                packet::triangle_range_hits(&self.triangles, id, *first, *count, packet, live, hits, cost)
+            }
+            AosShape::Sphere { .. } | AosShape::Cuboid { .. } => {
+                packet::lane_by_lane(self, id, packet, live, hits, cost)
+            }
+        }
     }
 
     fn intersect_bounded_brute(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {

@@ -11,18 +11,20 @@
 
 pub mod aos;
 pub mod mesh;
+pub mod packet;
 pub mod soa;
 
 use std::sync::Arc;
 
 pub use aos::{AosStore, AosTriangles};
 pub use mesh::{MeshAsset, MeshEntry};
+pub use packet::PacketHits;
 pub use soa::{SoaStore, SoaTriangles};
 
 use crate::geom::mesh::MeshData;
 use crate::geom::triangle::{TriangleHit, WatertightRay};
 use crate::geom::Placed;
-use crate::math::{offset_origin, Ray, Vec3};
+use crate::math::{offset_origin, Ray, RayPacket, Vec3};
 
 /// Index of a material in the snapshot's material table.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
@@ -166,6 +168,20 @@ pub trait PrimitiveStore: Send + Sync + Sized + std::fmt::Debug + 'static {
     /// True when bounded object `id` is hit anywhere in `(t_min, t_max)`.
     fn occludes_bounded(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32, cost: &mut TraversalCost) -> bool {
         self.intersect_bounded(id, ray, t_min, t_max, cost).is_some()
+    }
+    /// The packet form of [`PrimitiveStore::intersect_bounded`]: each `live` lane's nearest hit
+    /// with bounded object `id` within `(t_min, hits.t)` goes into `hits`. Lane for lane the
+    /// same hits as the single-ray method (this default calls it per lane).
+    #[inline(always)]
+    fn intersect_bounded_packet<const N: usize>(
+        &self,
+        id: u32,
+        packet: &RayPacket<N>,
+        live: &[bool; N],
+        hits: &mut PacketHits<N>,
+        cost: &mut TraversalCost,
+    ) {
+        packet::lane_by_lane(self, id, packet, live, hits, cost)
     }
     /// Nearest hit with bounded object `id` testing every triangle of a mesh (no mesh grid):
     /// the reference the two-level grid is checked against.

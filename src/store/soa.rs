@@ -8,11 +8,12 @@
 use std::sync::Arc;
 
 use super::mesh::{self, MeshEntry};
+use super::packet::{self, PacketHits};
 use super::{Hit, MaterialId, PlacedObject, PrimitiveStore, SurfacePoint, TraversalCost, TriangleLayout};
 use crate::geom::mesh::MeshData;
 use crate::geom::triangle::{self, TriangleHit, WatertightRay};
 use crate::geom::{plane, sphere, Placed};
-use crate::math::{Affine3A, Ray, Vec3};
+use crate::math::{Affine3A, Ray, RayPacket, Vec3};
 
 /// Kind of a bounded object, selecting which arrays its index refers to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -267,6 +268,38 @@ impl PrimitiveStore for SoaStore {
             return mesh::occluded(mesh, &local, t_min, t_max, cost);
         }
         self.intersect_bounded(id, ray, t_min, t_max, cost).is_some()
+    }
+
+    #[inline(always)]
+    fn intersect_bounded_packet<const N: usize>(
+        &self,
+        id: u32,
+        packet: &RayPacket<N>,
+        live: &[bool; N],
+        hits: &mut PacketHits<N>,
+        cost: &mut TraversalCost,
+    ) {
+        let o = id as usize;
+        let first = self.first[o];
+        match self.kind[o] {
+            Kind::Instance => {
+                let i = first as usize;
+                let mesh = &self.meshes[self.instance_mesh[i] as usize];
+                let to_object = self.instance_to_object.get(i);
+                packet::instance_hits(mesh, &to_object, id, packet, live, hits, cost)
+            }
+            Kind::Triangles => packet::triangle_range_hits(
+                &self.triangles,
+                id,
+                first,
+                self.count[o],
+                packet,
+                live,
+                hits,
+                cost,
+            ),
+            Kind::Sphere | Kind::Cuboid => packet::lane_by_lane(self, id, packet, live, hits, cost),
+        }
     }
 
     fn intersect_bounded_brute(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {

@@ -44,6 +44,22 @@ pub fn closest_hit_costed<S: PrimitiveStore>(
         cost.tests += 1;
         nearest.offer(store.intersect_unbounded(i, ray, t_min, nearest.t));
     }
+    nearest.offer(grid_hit(scene, ray, t_min, nearest.t, cost));
+    nearest.hit
+}
+
+/// Nearest hit with a bounded object in `(t_min, t_max)`, walking the top-level grid (the second
+/// half of [`closest_hit_costed`], after the planes).
+#[inline]
+pub(crate) fn grid_hit<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+    cost: &mut TraversalCost,
+) -> Option<Hit> {
+    let mut nearest = Nearest::new(t_max);
+    let store = &scene.store;
     for span in GridWalk::skipping(&scene.grid, ray, t_min, nearest.t) {
         if span.t_enter > nearest.t {
             break;

@@ -10,6 +10,7 @@ pub mod finite;
 pub mod integrator;
 pub mod light;
 pub mod material;
+pub mod packet;
 pub mod phong;
 pub mod render;
 pub mod scene;

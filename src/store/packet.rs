@@ -1,0 +1,161 @@
+//! Packets against the stores: each lane's nearest hit, and the mesh level of coherent
+//! traversal (a packet mapped into an instance's object space walks the mesh grid and tests
+//! each triangle against all its lanes with one kernel).
+
+use super::{Hit, MeshEntry, TraversalCost, TriangleLayout};
+use crate::accel::packet::{coherent_walk, PacketSink};
+use crate::geom::triangle::{triangle_lanes, TriangleHit, WatertightPacket};
+use crate::math::RayPacket;
+
+/// Each lane's nearest hit so far; `t` bounds the search (a lane's `t_max` until it hits).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PacketHits<const N: usize> {
+    /// Ray parameter of the nearest hit, or the lane's `t_max`.
+    pub t: [f32; N],
+    /// The hit.
+    pub hit: [Option<Hit>; N],
+}
+
+impl<const N: usize> PacketHits<N> {
+    /// No hits yet: every lane searches up to its `t_max`.
+    #[inline]
+    pub fn new(packet: &RayPacket<N>) -> Self {
+        Self { t: packet.t_max, hit: [None; N] }
+    }
+
+    /// Keeps `candidate` for lane `i`, which the caller found within `(t_min, t[i])`.
+    #[inline]
+    pub fn offer(&mut self, i: usize, candidate: Option<Hit>) {
+        if let Some(h) = candidate {
+            self.t[i] = h.t;
+            self.hit[i] = Some(h);
+        }
+    }
+}
+
+/// The nearest triangle hits of a packet in a mesh (in object space), by coherent traversal of
+/// the mesh grid; lanes that cannot walk together walk alone. `record(lane, index, hit)` gets
+/// every improvement; `bound` is each lane's search bound.
+#[inline(always)]
+pub fn mesh_hits<const N: usize, L: TriangleLayout>(
+    mesh: &MeshEntry<L>,
+    packet: &RayPacket<N>,
+    live: &[bool; N],
+    bound: &mut [f32; N],
+    cost: &mut TraversalCost,
+    mut record: impl FnMut(usize, u32, TriangleHit),
+) {
+    struct Tris<'a, const N: usize, L: TriangleLayout, R: FnMut(usize, u32, TriangleHit)> {
+        triangles: &'a L,
+        w: WatertightPacket<N>,
+        t_min: [f32; N],
+        bound: &'a mut [f32; N],
+        tests: u32,
+        record: R,
+    }
+    impl<const N: usize, L: TriangleLayout, R: FnMut(usize, u32, TriangleHit)> PacketSink<N>
+        for Tris<'_, N, L, R>
+    {
+        #[inline(always)]
+        fn bound(&self) -> &[f32; N] {
+            self.bound
+        }
+        #[inline(always)]
+        fn visit(&mut self, id: u32, live: &[bool; N]) {
+            self.tests += 1;
+            let record = &mut self.record;
+            triangle_lanes(self.triangles.vertices(id), &self.w, live, &self.t_min, self.bound, |i, h| {
+                record(i, id, h)
+            });
+        }
+    }
+    let grid = &mesh.asset.grid;
+    let mut sink = Tris {
+        triangles: &mesh.triangles,
+        w: WatertightPacket::new(packet, live),
+        t_min: packet.t_min,
+        bound,
+        tests: 0,
+        record: &mut record,
+    };
+    let mut cells = 0;
+    let walked = coherent_walk(grid, packet, live, &mut sink, &mut cells);
+    cost.cells += cells;
+    cost.tests += sink.tests;
+    if walked.is_some() {
+        return;
+    }
+    for i in 0..N {
+        if live[i] {
+            let mut lane = TraversalCost::default();
+            let found = super::mesh::intersect(mesh, &packet.ray(i), packet.t_min[i], bound[i], &mut lane);
+            cost.cells += lane.cells;
+            cost.tests += lane.tests;
+            if let Some((k, h)) = found {
+                bound[i] = h.t;
+                record(i, k, h);
+            }
+        }
+    }
+}
+
+/// Each `live` lane's nearest hit with bounded object `id`, one lane at a time through the
+/// store's single-ray test (the default of [`super::PrimitiveStore::intersect_bounded_packet`],
+/// and the way kinds without a packet kernel are tested).
+#[inline(always)]
+pub fn lane_by_lane<const N: usize, S: super::PrimitiveStore>(
+    store: &S,
+    id: u32,
+    packet: &RayPacket<N>,
+    live: &[bool; N],
+    hits: &mut PacketHits<N>,
+    cost: &mut TraversalCost,
+) {
+    for i in 0..N {
+        if live[i] {
+            let found = store.intersect_bounded(id, &packet.ray(i), packet.t_min[i], hits.t[i], cost);
+            hits.offer(i, found);
+        }
+    }
+}
+
+/// Each `live` lane's nearest hit with mesh instance `object` (its mesh `mesh`, its map
+/// `to_object`): the packet mapped into object space walks the mesh grid together.
+#[inline(always)]
+pub fn instance_hits<const N: usize, L: TriangleLayout>(
+    mesh: &MeshEntry<L>,
+    to_object: &crate::math::Affine3A,
+    object: u32,
+    packet: &RayPacket<N>,
+    live: &[bool; N],
+    hits: &mut PacketHits<N>,
+    cost: &mut TraversalCost,
+) {
+    let local = packet.mapped(to_object, live);
+    let found = &mut hits.hit;
+    mesh_hits(mesh, &local, live, &mut hits.t, cost, |i, k, h| found[i] = Some(Hit::triangle(object, k, &h)));
+}
+
+/// Each `live` lane's nearest hit with the triangles `first..first + count` of a layout (a scene
+/// triangle or polygon, object `object`), every triangle tested against all lanes at once.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn triangle_range_hits<const N: usize, L: TriangleLayout>(
+    triangles: &L,
+    object: u32,
+    first: u32,
+    count: u32,
+    packet: &RayPacket<N>,
+    live: &[bool; N],
+    hits: &mut PacketHits<N>,
+    cost: &mut TraversalCost,
+) {
+    cost.tests += count;
+    let w = WatertightPacket::new(packet, live);
+    let found = &mut hits.hit;
+    for k in first..first + count {
+        triangle_lanes(triangles.vertices(k), &w, live, &packet.t_min, &mut hits.t, |i, h| {
+            found[i] = Some(Hit::triangle(object, k - first, &h))
+        });
+    }
+}

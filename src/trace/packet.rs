@@ -1,0 +1,85 @@
+//! Ray packets in structure-of-arrays form, traced through the grids by coherent grid traversal.
+//!
+//! A [`RayPacket`] holds `N` rays as per-axis lane arrays. [`closest_hits`] finds every lane's
+//! nearest hit: planes lane by lane, then the top-level grid walked by the whole packet at once
+//! ([`coherent_walk`]: Wald, Ize, Kensler, Knoll and Parker, "Ray Tracing Animated Scenes using
+//! Coherent Grid Traversal", SIGGRAPH 2006). The packet crosses the grid slice by slice along
+//! its rays' common dominant axis; in each slice it visits the rectangle of cells that bounds
+//! all its live rays there, and tests each object found against all its live lanes. A mesh
+//! instance maps the packet into object space and walks its mesh grid the same way, testing
+//! each triangle against all lanes with one SIMD kernel ([`triangle_lanes`]).
+//!
+//! **Same answers as single rays.** Every lane's hit comes from the same primitive tests, with
+//! the same IEEE operations in the same order, as the single-ray path's
+//! ([`super::integrator::closest_hit`]): the kernels are the scalar ones written lane-wise, and
+//! a lane the vector kernel cannot decide (an edge function exactly zero) is handed to the
+//! scalar kernel. The walk only decides *which* primitives are tested: every primitive a lane
+//! could hit lies in a cell of the rectangle of the slice where it is hit (the rectangles are
+//! widened by a margin that covers the rounding of the lanes' coordinates), and a lane stops
+//! only once its nearest hit lies before the far wall of the slice just searched, as a single
+//! ray stops at the end of its cell. A packet whose rays disagree on the sign of the dominant
+//! axis falls back to walking its lanes one by one, with the same results.
+
+use super::scene::TraceScene;
+use crate::accel::packet::{coherent_walk, PacketSink};
+use crate::math::RayPacket;
+use crate::store::{PacketHits, PrimitiveStore, TraversalCost};
+
+/// Rays per packet: 4 × 4 neighbouring pixels (measured against other widths by
+/// `benches/layout.rs`).
+pub const LANES: usize = 16;
+
+/// Every lane's nearest hit in the scene: planes lane by lane, then the top-level grid by
+/// coherent traversal (or lane by lane where the packet is not coherent). Equal, lane for lane,
+/// to [`super::integrator::closest_hit`]. `cost` gets the packet's cells and tests.
+#[inline(always)]
+pub fn closest_hits<const N: usize, S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    packet: &RayPacket<N>,
+    cost: &mut TraversalCost,
+) -> PacketHits<N> {
+    struct Objects<'a, const N: usize, S: PrimitiveStore> {
+        store: &'a S,
+        packet: &'a RayPacket<N>,
+        hits: PacketHits<N>,
+        cost: TraversalCost,
+    }
+    impl<const N: usize, S: PrimitiveStore> PacketSink<N> for Objects<'_, N, S> {
+        #[inline(always)]
+        fn bound(&self) -> &[f32; N] {
+            &self.hits.t
+        }
+        #[inline(always)]
+        fn visit(&mut self, id: u32, live: &[bool; N]) {
+            self.store.intersect_bounded_packet(id, self.packet, live, &mut self.hits, &mut self.cost);
+        }
+    }
+    let store = &scene.store;
+    let mut hits = PacketHits::new(packet);
+    for p in 0..store.unbounded_count() {
+        for i in 0..N {
+            if packet.active[i] {
+                cost.tests += 1;
+                let ray = packet.ray(i);
+                hits.offer(i, store.intersect_unbounded(p, &ray, packet.t_min[i], hits.t[i]));
+            }
+        }
+    }
+    let mut sink = Objects { store, packet, hits, cost: TraversalCost::default() };
+    let mut cells = 0;
+    let walked = coherent_walk(&scene.grid, packet, &packet.active, &mut sink, &mut cells);
+    let Objects { mut hits, cost: tested, .. } = sink;
+    cost.cells += cells + tested.cells;
+    cost.tests += tested.tests;
+    if walked.is_none() {
+        for i in 0..N {
+            if packet.active[i] {
+                let ray = packet.ray(i);
+                let bound = hits.t[i];
+                let found = super::integrator::grid_hit(scene, &ray, packet.t_min[i], bound, cost);
+                hits.offer(i, found);
+            }
+        }
+    }
+    hits
+}

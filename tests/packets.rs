@@ -1,0 +1,267 @@
+//! Ray packets against single rays: on seeded random scenes (spheres, triangles, polygons,
+//! boxes, planes, mesh instances), every lane of a packet traced by coherent grid traversal
+//! must get exactly the hit the single-ray DDA gets (the same `t` bits, object, primitive and
+//! barycentrics), at every SIMD level, for camera blocks, packets with mixed direction signs,
+//! parallel rays, a shared origin inside the grid, origins inside objects and segments with
+//! finite ranges. And the lane-wise triangle kernel equals the scalar one bit for bit.
+
+mod common;
+
+use std::sync::Arc;
+
+use common::{point_in, rng, unit_vector};
+use glam::DVec3;
+use penumbra::geom::mesh::{icosphere, MeshData};
+use penumbra::geom::triangle::{self, TriangleHit, WatertightPacket, WatertightRay};
+use penumbra::geom::{MeshId, Shape};
+use penumbra::math::{Affine3A, Quat, Ray, RayPacket, Vec3};
+use penumbra::simd::SimdLevel;
+use penumbra::store::{AosStore, Hit, MaterialId, MeshAsset, PlacedObject, PrimitiveStore, TraversalCost};
+use penumbra::trace::packet::{closest_hits, LANES};
+use penumbra::trace::{closest_hit, TraceScene};
+use proptest::prelude::*;
+use rand::rngs::StdRng;
+use rand::RngExt;
+
+fn asset(data: MeshData) -> Arc<MeshAsset> {
+    Arc::new(MeshAsset::new("test", data, 2.0))
+}
+
+/// The random mixed cloud plus instances of two meshes (rotated, non-uniformly scaled).
+fn scene<S: PrimitiveStore>(seed: u64) -> TraceScene<S> {
+    let meshes =
+        vec![asset(icosphere(Vec3::ZERO, 1.0, 2)), asset(icosphere(Vec3::new(0.5, 0.0, 0.0), 0.7, 1))];
+    let mut rng = rng(seed);
+    let mut objects = common::random_mixed(seed, 120);
+    for i in 0..12 {
+        let m = i % 2;
+        let to_world = Affine3A::from_scale_rotation_translation(
+            Vec3::new(rng.random_range(0.3..1.5), rng.random_range(0.3..1.5), rng.random_range(0.3..1.5)),
+            Quat::from_axis_angle(unit_vector(&mut rng), rng.random_range(0.0..6.3)),
+            point_in(&mut rng, Vec3::splat(-5.0), Vec3::splat(5.0)),
+        );
+        let shape = Shape::Mesh { mesh: MeshId(m as u32), bounds: meshes[m].data.bounds };
+        objects.push(PlacedObject {
+            geometry: shape.place(&to_world.as_daffine3(), DVec3::ZERO),
+            material: MaterialId(0),
+        });
+    }
+    TraceScene::build_with_meshes(&objects, &meshes, common::simple_tables(), 3.0)
+}
+
+/// The kinds of packet drawn.
+#[derive(Debug, Clone, Copy)]
+enum Kind {
+    /// A 4×4 block of neighbouring camera pixels.
+    CameraBlock,
+    /// A shared origin inside the grid, directions in a narrow cone.
+    SharedOrigin,
+    /// Random origins and directions: mixed signs, so lanes walk alone.
+    Mixed,
+    /// One direction (sometimes axis-parallel with ±0.0 components), origins on a lattice.
+    Parallel,
+    /// Origins inside spheres of the scene.
+    InsideObjects,
+    /// Shadow-style segments with finite ranges and some `t_min > 0`.
+    Segments,
+}
+
+fn packet<S: PrimitiveStore>(rng: &mut StdRng, scene: &TraceScene<S>, kind: Kind) -> RayPacket<LANES> {
+    let mut p = RayPacket::<LANES>::default();
+    let (w, h) = (64, 48);
+    let (bx, by) = (rng.random_range(0..w / 4) * 4, rng.random_range(0..h / 4) * 4);
+    let origin = point_in(rng, Vec3::splat(-4.0), Vec3::splat(4.0));
+    let axis = unit_vector(rng);
+    let dir = if rng.random::<f32>() < 0.3 {
+        let mut d = Vec3::ZERO;
+        d[rng.random_range(0..3)] = if rng.random::<bool>() { 1.0 } else { -1.0 };
+        if rng.random::<bool>() {
+            d = d.map(|c| if c == 0.0 { -0.0 } else { c });
+        }
+        d
+    } else {
+        unit_vector(rng)
+    };
+    for i in 0..LANES {
+        if rng.random::<f32>() < 0.05 {
+            continue; // an inactive lane now and then
+        }
+        let (ray, t_min, t_max) = match kind {
+            Kind::CameraBlock => {
+                let (x, y) = (bx + (i % 4) as u32, by + (i / 4) as u32);
+                (scene.camera.ray(x as f32 + 0.5, y as f32 + 0.5, w, h), 0.0, f32::INFINITY)
+            }
+            Kind::SharedOrigin => {
+                let d = (axis + 0.15 * unit_vector(rng)).normalize();
+                (Ray::new(origin, d), 0.0, f32::INFINITY)
+            }
+            Kind::Mixed => (
+                Ray::new(point_in(rng, Vec3::splat(-8.0), Vec3::splat(8.0)), unit_vector(rng)),
+                0.0,
+                f32::INFINITY,
+            ),
+            Kind::Parallel => {
+                let o = origin + Vec3::new((i % 4) as f32, (i / 4) as f32, (i % 3) as f32) * 0.37 - 1.0;
+                (Ray::new(o, dir), 0.0, f32::INFINITY)
+            }
+            Kind::InsideObjects => {
+                // Inside the cloud's objects often enough: a short random walk from the origin.
+                let o = origin + unit_vector(rng) * rng.random_range(0.0..0.6);
+                (Ray::new(o, (axis + 0.3 * unit_vector(rng)).normalize()), 0.0, f32::INFINITY)
+            }
+            Kind::Segments => {
+                let a = point_in(rng, Vec3::splat(-6.0), Vec3::splat(6.0));
+                let b = origin + unit_vector(rng) * 0.5;
+                let d = b - a;
+                let t_min = if rng.random::<bool>() { 0.0 } else { rng.random_range(0.0..0.3) };
+                (Ray::new(a, d.normalize()), t_min, d.length())
+            }
+        };
+        p.set(i, &ray, t_min, t_max);
+    }
+    p
+}
+
+fn bits(h: Option<Hit>) -> Option<(u32, u32, u32, u32, u32)> {
+    h.map(|h| (h.t.to_bits(), h.object, h.prim, h.u.to_bits(), h.v.to_bits()))
+}
+
+fn check<S: PrimitiveStore>(scene: &TraceScene<S>, seed: u64) -> (usize, usize) {
+    let mut rng = rng(seed ^ 0x9e37);
+    let kinds = [
+        Kind::CameraBlock,
+        Kind::SharedOrigin,
+        Kind::Mixed,
+        Kind::Parallel,
+        Kind::InsideObjects,
+        Kind::Segments,
+    ];
+    let (mut lanes, mut hits) = (0, 0);
+    for round in 0..60 {
+        for kind in kinds {
+            let p = packet(&mut rng, scene, kind);
+            let want: Vec<Option<Hit>> = (0..LANES)
+                .map(|i| p.active[i].then(|| closest_hit(scene, &p.ray(i), p.t_min[i], p.t_max[i])).flatten())
+                .collect();
+            for level in [SimdLevel::Baseline, SimdLevel::Auto] {
+                let got = level.run(|| closest_hits(scene, &p, &mut TraversalCost::default()));
+                for i in 0..LANES {
+                    assert_eq!(
+                        bits(got.hit[i]),
+                        bits(want[i]),
+                        "seed {seed}, round {round}, {kind:?}, lane {i} ({level}): ray {:?} [{}, {}]",
+                        p.ray(i),
+                        p.t_min[i],
+                        p.t_max[i]
+                    );
+                }
+            }
+            lanes += p.active.iter().filter(|&&a| a).count();
+            hits += want.iter().filter(|h| h.is_some()).count();
+        }
+    }
+    (lanes, hits)
+}
+
+#[test]
+fn every_lane_of_a_packet_finds_the_single_rays_hit_on_random_scenes() {
+    let (mut lanes, mut hits) = (0, 0);
+    for seed in 0..4 {
+        let (l, h) = check(&scene::<penumbra::store::SoaStore>(seed), seed);
+        lanes += l;
+        hits += h;
+    }
+    // The fixture must exercise hits and misses alike.
+    assert!(hits * 5 > lanes && hits * 5 < lanes * 4, "{hits} hits of {lanes} lanes");
+}
+
+#[test]
+fn packets_equal_single_rays_in_the_array_of_structures_store_too() {
+    check(&scene::<AosStore>(7), 7);
+}
+
+/// A triangle and a ray aimed at it: through a vertex, an edge point, the inside or nowhere
+/// in particular, on integer coordinates so that edge functions are often exactly zero.
+fn triangle_case() -> impl Strategy<Value = ([Vec3; 3], Ray)> {
+    let v = || (-4i32..4, -4i32..4, -4i32..4).prop_map(|(x, y, z)| Vec3::new(x as f32, y as f32, z as f32));
+    let dir = prop_oneof![
+        (-3i32..4, -3i32..4, -3i32..4).prop_map(|(x, y, z)| Vec3::new(x as f32, y as f32, z as f32)),
+        (0usize..3, any::<bool>(), any::<bool>()).prop_map(|(axis, neg, negzero)| {
+            let zero = if negzero { -0.0 } else { 0.0 };
+            let mut d = Vec3::splat(zero);
+            d[axis] = if neg { -1.0 } else { 1.0 };
+            d
+        }),
+        (-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0).prop_map(|(x, y, z)| Vec3::new(x, y, z)),
+    ];
+    (v(), v(), v(), dir, 0u8..4, -6i32..6, 0.0f32..1.0).prop_filter_map(
+        "non-zero direction",
+        |(a, b, c, d, aim, back, s)| {
+            if d == Vec3::ZERO {
+                return None;
+            }
+            let target = match aim {
+                0 => a,
+                1 => a + (b - a) * 0.5,
+                2 => (a + b + c) / 3.0,
+                _ => a + (c - a) * s,
+            };
+            Some(([a, b, c], Ray::new(target - d * back as f32, d)))
+        },
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
+
+    /// The lane-wise kernel, run on a packet of rays around the case (the case itself, its
+    /// direction's sign flipped, and small perturbations), equals the scalar kernel lane for
+    /// lane, at every SIMD level, with a common permutation or without.
+    #[test]
+    fn the_lane_kernel_equals_the_scalar_kernel_bit_for_bit((tri, ray) in triangle_case(), jitter in 0.0f32..1e-3) {
+        let mut p = RayPacket::<8>::default();
+        for i in 0..8 {
+            let d = match i {
+                0 => ray.dir,
+                1 => -ray.dir,
+                _ => ray.dir + Vec3::new(i as f32, -(i as f32), 0.5) * jitter,
+            };
+            let d = if d == Vec3::ZERO { ray.dir } else { d };
+            p.set(i, &Ray::new(ray.origin, d), if i == 3 { 0.5 } else { 0.0 }, if i == 4 { 2.0 } else { f32::INFINITY });
+        }
+        let live = [true; 8];
+        let want: Vec<Option<TriangleHit>> = (0..8)
+            .map(|i| triangle::intersect(tri[0], tri[1], tri[2], &WatertightRay::new(&p.ray(i)), p.t_min[i], p.t_max[i]))
+            .collect();
+        for level in SimdLevel::ALL {
+            if !level.available() {
+                continue;
+            }
+            let got = level.run(|| {
+                let w = WatertightPacket::new(&p, &live);
+                let mut bound = p.t_max;
+                let mut got = [None; 8];
+                triangle::triangle_lanes(tri, &w, &live, &p.t_min, &mut bound, |i, h| got[i] = Some(h));
+                got
+            });
+            for i in 0..8 {
+                let key = |h: Option<TriangleHit>| h.map(|h| (h.t.to_bits(), h.u.to_bits(), h.v.to_bits()));
+                prop_assert_eq!(key(got[i]), key(want[i]), "lane {} at {}", i, level);
+            }
+        }
+    }
+}
+
+#[test]
+fn a_camera_block_shares_one_permutation_and_mixed_signs_do_not() {
+    let s = scene::<penumbra::store::SoaStore>(1);
+    let mut rng = rng(3);
+    let block = packet(&mut rng, &s, Kind::CameraBlock);
+    let live = block.active;
+    assert!(WatertightPacket::new(&block, &live).common_permutation().is_some());
+    let mut mixed = RayPacket::<LANES>::default();
+    mixed.set(0, &Ray::new(Vec3::ZERO, Vec3::X), 0.0, 1.0);
+    mixed.set(1, &Ray::new(Vec3::ZERO, Vec3::Y), 0.0, 1.0);
+    let live = mixed.active;
+    assert!(WatertightPacket::new(&mixed, &live).common_permutation().is_none());
+}
