@@ -16,10 +16,11 @@ mod harness;
 
 use criterion::{BenchmarkId, Criterion, Throughput};
 use glam::{DAffine3, DVec3};
-use harness::rays::{median, mrays, ray_set, trace_primary, trace_shadow, RaySet};
+use harness::rays::{median, mrays, ray_set, trace_primary, trace_primary_packets, trace_shadow, RaySet};
 use penumbra::camera::Camera;
 use penumbra::geom::Shape;
 use penumbra::math::Vec3;
+use penumbra::simd::SimdLevel;
 use penumbra::store::{AosStore, MaterialId, PlacedObject, PrimitiveStore, SoaStore};
 use penumbra::trace::{Light, Material, SceneTables, TraceScene};
 use rand::RngExt;
@@ -116,22 +117,26 @@ fn table(cases: &[Case]) {
     println!(
         "\nlayout: SoA vs AoS, {W}x{H}, both cores, medians of 7 (Mrays/s; ratio = SoA speed / AoS speed)"
     );
+    let level = SimdLevel::Auto.resolve();
     println!(
-        "{:<14} {:>10} {:>10} {:>7}   {:>10} {:>10} {:>7}",
-        "scene", "prim SoA", "prim AoS", "ratio", "shad SoA", "shad AoS", "ratio"
+        "{:<14} {:>10} {:>10} {:>10} {:>7} {:>7}   {:>10} {:>10} {:>7}",
+        "scene", "prim pkt", "prim SoA", "prim AoS", "pkt/AoS", "SoA/AoS", "shad SoA", "shad AoS", "ratio"
     );
     for case in cases {
         let (p, s) = (&case.rays.primary, &case.rays.shadow);
         // Interleave the variants so drift on a shared machine hits both alike.
+        let pp = median(7, || trace_primary_packets(&case.soa, p, W, level));
         let ps = median(7, || trace_primary(&case.soa, p));
         let pa = median(7, || trace_primary(&case.aos, p));
         let ss = median(7, || trace_shadow(&case.soa, s));
         let sa = median(7, || trace_shadow(&case.aos, s));
         println!(
-            "{:<14} {:>10.2} {:>10.2} {:>7.3}   {:>10.2} {:>10.2} {:>7.3}",
+            "{:<14} {:>10.2} {:>10.2} {:>10.2} {:>7.3} {:>7.3}   {:>10.2} {:>10.2} {:>7.3}",
             case.name,
+            mrays(p.len(), pp),
             mrays(p.len(), ps),
             mrays(p.len(), pa),
+            pa.as_secs_f64() / pp.as_secs_f64(),
             pa.as_secs_f64() / ps.as_secs_f64(),
             mrays(s.len(), ss),
             mrays(s.len(), sa),

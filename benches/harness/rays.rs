@@ -45,6 +45,39 @@ pub fn trace_primary<S: PrimitiveStore>(scene: &TraceScene<S>, rays: &[Ray]) -> 
         .sum()
 }
 
+/// Closest hits of an image's camera rays (`w × h`, row-major) traced as packets of 4 × 4
+/// neighbouring pixels at SIMD `level`, bands of 16 rows in parallel; returns the number of hits.
+pub fn trace_primary_packets<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    rays: &[Ray],
+    w: u32,
+    level: penumbra::simd::SimdLevel,
+) -> usize {
+    use penumbra::math::RayPacket;
+    use penumbra::trace::packet::{closest_hits, LANES};
+    let h = rays.len() as u32 / w;
+    (0..h.div_ceil(16))
+        .into_par_iter()
+        .map(|band| {
+            let mut found = 0;
+            for by in (band * 16..(band * 16 + 16).min(h)).step_by(4) {
+                for bx in (0..w).step_by(4) {
+                    let mut p = RayPacket::<LANES>::default();
+                    for lane in 0..LANES {
+                        let (x, y) = (bx + lane as u32 % 4, by + lane as u32 / 4);
+                        if x < w && y < h {
+                            p.set(lane, black_box(&rays[(y * w + x) as usize]), 0.0, f32::INFINITY);
+                        }
+                    }
+                    let hits = level.run(|| closest_hits(scene, &p, &mut Default::default()));
+                    found += hits.hit.iter().filter(|h| h.is_some()).count();
+                }
+            }
+            found
+        })
+        .sum()
+}
+
 /// Shadow tests of every ray; returns the number of occluded rays.
 pub fn trace_shadow<S: PrimitiveStore>(scene: &TraceScene<S>, rays: &[(Ray, f32)]) -> usize {
     rays.par_chunks(256)

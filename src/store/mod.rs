@@ -72,6 +72,14 @@ pub struct TraversalCost {
     pub tests: u32,
 }
 
+impl TraversalCost {
+    /// A packet's cost shared among its `rays` lanes (rounded up): what each ray cost.
+    pub fn per_ray(&self, rays: u32) -> Self {
+        let rays = rays.max(1);
+        Self { cells: self.cells.div_ceil(rays), tests: self.tests.div_ceil(rays) }
+    }
+}
+
 /// What shading needs of a hit point.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SurfacePoint {

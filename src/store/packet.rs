@@ -62,7 +62,7 @@ pub fn mesh_hits<const N: usize, L: TriangleLayout>(
         }
         #[inline(always)]
         fn visit(&mut self, id: u32, live: &[bool; N]) {
-            self.tests += 1;
+            self.tests += live.iter().filter(|&&l| l).count() as u32;
             let record = &mut self.record;
             triangle_lanes(self.triangles.vertices(id), &self.w, live, &self.t_min, self.bound, |i, h| {
                 record(i, id, h)
@@ -150,7 +150,7 @@ pub fn triangle_range_hits<const N: usize, L: TriangleLayout>(
     hits: &mut PacketHits<N>,
     cost: &mut TraversalCost,
 ) {
-    cost.tests += count;
+    cost.tests += count * live.iter().filter(|&&l| l).count() as u32;
     let w = WatertightPacket::new(packet, live);
     let found = &mut hits.hit;
     for k in first..first + count {

@@ -396,6 +396,20 @@ pub fn radiance<S: PrimitiveStore>(
 ) -> Vec3 {
     let mut cost = TraversalCost::default();
     let found = closest_hit_costed(scene, ray, 0.0, f32::INFINITY, &mut cost);
+    radiance_at(scene, ray, found, cost, depth, weight, ctx)
+}
+
+/// [`radiance`] for a ray whose nearest hit (`found`, at traversal cost `cost`) is already
+/// known: a camera ray traced in a packet.
+pub fn radiance_at<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    ray: &Ray,
+    found: Option<Hit>,
+    cost: TraversalCost,
+    depth: u32,
+    weight: f32,
+    ctx: &mut PathContext<'_>,
+) -> Vec3 {
     ctx.rays.traversal.record(cost);
     let Some(hit) = found else {
         return scene.background;

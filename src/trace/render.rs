@@ -21,17 +21,19 @@ use rayon::prelude::*;
 
 use super::aov::first_hit_aovs;
 use super::finite::{DropTally, SampleMean};
-use super::integrator::{radiance, CameraSample, PathContext, DEFAULT_MAX_SECONDARY_RAYS};
+use super::integrator::{radiance, radiance_at, CameraSample, PathContext, DEFAULT_MAX_SECONDARY_RAYS};
+use super::packet::{closest_hits, LANES};
 use super::scene::TraceScene;
 use super::stats::{AdaptiveCounts, BudgetStats, GridStats, MeshGridStats, RayCounts, RenderStats};
 use crate::film::{AovSet, Aovs, Film};
-use crate::math::{Ray, Vec2, Vec3};
+use crate::math::{Ray, RayPacket, Vec2, Vec3};
 use crate::sample::adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint};
 use crate::sample::pattern::{disk_point, square_point};
 use crate::sample::rng::{hash, permute, uniform2, SampleKey};
 use crate::sample::warp::tent;
 use crate::sample::{Filter, Pattern};
-use crate::store::{MeshEntry, PrimitiveStore};
+use crate::simd::SimdLevel;
+use crate::store::{MeshEntry, PrimitiveStore, TraversalCost};
 
 /// Edge length of a square render tile in pixels.
 pub const TILE: u32 = 16;
@@ -160,9 +162,28 @@ pub fn render_observed<S: PrimitiveStore>(
     }
     let (Assembled { film, mut rays, cost, dropped }, adaptive) = match settings.adaptive {
         Some(adaptive) => render_adaptive(scene, settings, &adaptive, wanted.cost, &tile_done),
+        // Packets need no per-pixel ray counts; the cost AOV, which does, traces single rays.
+        None if settings.simd.packets() && !wanted.cost => {
+            let level = settings.simd.resolve();
+            let tile = |area: [u32; 4], rays: &mut RayCounts, out: &mut TileOut| {
+                packet_tile(scene, settings, level, area, rays, out)
+            };
+            (render_tiles(settings, false, tile, &tile_done), AdaptiveCounts::default())
+        }
         None => {
-            let pixel = |x, y, rays: &mut RayCounts| fixed_pixel(scene, settings, x, y, rays);
-            (render_tiles(settings, wanted.cost, pixel, &tile_done), AdaptiveCounts::default())
+            let want_cost = wanted.cost;
+            let tile = |[x0, y0, x1, y1]: [u32; 4], rays: &mut RayCounts, out: &mut TileOut| {
+                for y in y0..y1 {
+                    for x in x0..x1 {
+                        let before = rays.total();
+                        out.pixels.push(fixed_pixel(scene, settings, x, y, rays));
+                        if want_cost {
+                            out.costs.push(saturate(rays.total() - before));
+                        }
+                    }
+                }
+            };
+            (render_tiles(settings, want_cost, tile, &tile_done), AdaptiveCounts::default())
         }
     };
     let aovs = (!wanted.is_empty()).then(|| {
@@ -216,16 +237,25 @@ struct Assembled {
     dropped: DropTally,
 }
 
-/// Runs `pixel` (a colour and the samples it dropped) over every pixel, tiles in parallel,
-/// and assembles the film (and the cost image when `want_cost`) in tile order.
+/// What one tile's shader writes: per pixel in row-major order, its colour and the samples it
+/// dropped, and (only when the cost AOV is wanted) the rays it traced.
+#[derive(Debug, Default)]
+struct TileOut {
+    pixels: Vec<(Vec3, u32)>,
+    costs: Vec<u32>,
+}
+
+/// Runs `shade` over every tile (`[x0, y0, x1, y1]`, ends exclusive), tiles in parallel, and
+/// assembles the film (and the cost image when `want_cost`: every tile then reports costs) in
+/// tile order.
 fn render_tiles<F>(
     settings: &RenderSettings,
     want_cost: bool,
-    pixel: F,
+    shade: F,
     tile_done: &(dyn Fn() + Sync),
 ) -> Assembled
 where
-    F: Fn(u32, u32, &mut RayCounts) -> (Vec3, u32) + Sync,
+    F: Fn([u32; 4], &mut RayCounts, &mut TileOut) + Sync,
 {
     let (w, h) = (settings.width, settings.height);
     let tiles_x = w.div_ceil(TILE);
@@ -233,23 +263,18 @@ where
         .into_par_iter()
         .map(|tile| {
             let (x0, y0) = (tile % tiles_x * TILE, tile / tiles_x * TILE);
+            let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
             let mut rays = RayCounts::default();
-            let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
-            let mut costs = Vec::new();
+            let mut out = TileOut { pixels: Vec::with_capacity((TILE * TILE) as usize), costs: Vec::new() };
+            shade([x0, y0, x1, y1], &mut rays, &mut out);
+            debug_assert_eq!(out.pixels.len() as u32, (x1 - x0) * (y1 - y0), "one entry per pixel");
             let mut dropped = DropTally::default();
-            for y in y0..(y0 + TILE).min(h) {
-                for x in x0..(x0 + TILE).min(w) {
-                    let before = rays.total();
-                    let (c, n) = pixel(x, y, &mut rays);
-                    dropped.record(y * w + x, n);
-                    pixels.push(c);
-                    if want_cost {
-                        costs.push(saturate(rays.total() - before));
-                    }
-                }
+            let tw = x1 - x0;
+            for (k, &(_, n)) in out.pixels.iter().enumerate() {
+                dropped.record((y0 + k as u32 / tw) * w + x0 + k as u32 % tw, n);
             }
             tile_done();
-            (pixels, costs, rays, dropped)
+            (out.pixels.into_iter().map(|(c, _)| c).collect(), out.costs, rays, dropped)
         })
         .collect();
     assemble(settings, &tiles, want_cost)
@@ -295,34 +320,116 @@ fn fixed_pixel<S: PrimitiveStore>(
     y: u32,
     rays: &mut RayCounts,
 ) -> (Vec3, u32) {
+    let mut mean = SampleMean::default();
+    for sample in 0..samples_per_pixel(scene, settings) {
+        let (ray, camera) = camera_sample(scene, settings, x, y, sample, rays);
+        mean.add(trace_camera_ray(scene, settings, &ray, camera, rays));
+    }
+    (mean.mean(), mean.dropped())
+}
+
+/// Camera samples per pixel with a fixed pattern: AA samples times lens samples.
+fn samples_per_pixel<S: PrimitiveStore>(scene: &TraceScene<S>, settings: &RenderSettings) -> u32 {
+    let n_lens = if scene.camera.has_lens() { settings.lens.samples.max(1) } else { 1 };
+    settings.aa.sampling.samples.max(1) * n_lens
+}
+
+/// Camera sample `sample` of pixel `(x, y)`: its ray (counted as a camera or lens ray) and its
+/// key. Sample `i · n_lens + j` is AA position `i` through lens point `j`.
+fn camera_sample<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    settings: &RenderSettings,
+    x: u32,
+    y: u32,
+    sample: u32,
+    rays: &mut RayCounts,
+) -> (Ray, CameraSample) {
     let pixel = y * settings.width + x;
     let patterns = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample: PIXEL_PATTERNS };
     let n_aa = settings.aa.sampling.samples.max(1);
     let n_lens = if scene.camera.has_lens() { settings.lens.samples.max(1) } else { 1 };
     let n = n_aa * n_lens;
-    let mut mean = SampleMean::default();
-    for i in 0..n_aa {
-        let offset = pixel_offset(&settings.aa, n_aa, i, uniform2(&patterns, DIM_PIXEL, i));
-        let (px, py) = (x as f32 + offset.x, y as f32 + offset.y);
-        for j in 0..n_lens {
-            let sample = i * n_lens + j;
-            let ray = if scene.camera.has_lens() {
-                // Lens points are stratified over all n samples, in an order decorrelated
-                // from the pixel positions.
-                let k = permute(sample, n, hash(&patterns, DIM_LENS, u32::MAX));
-                let lens = disk_point(settings.lens.pattern, n, k, uniform2(&patterns, DIM_LENS, k));
-                rays.lens += 1;
-                scene.camera.lens_ray(px, py, settings.width, settings.height, lens)
-            } else {
-                rays.camera += 1;
-                scene.camera.ray(px, py, settings.width, settings.height)
+    let i = sample / n_lens;
+    let offset = pixel_offset(&settings.aa, n_aa, i, uniform2(&patterns, DIM_PIXEL, i));
+    let (px, py) = (x as f32 + offset.x, y as f32 + offset.y);
+    let ray = if scene.camera.has_lens() {
+        // Lens points are stratified over all n samples, in an order decorrelated from the
+        // pixel positions.
+        let k = permute(sample, n, hash(&patterns, DIM_LENS, u32::MAX));
+        let lens = disk_point(settings.lens.pattern, n, k, uniform2(&patterns, DIM_LENS, k));
+        rays.lens += 1;
+        scene.camera.lens_ray(px, py, settings.width, settings.height, lens)
+    } else {
+        rays.camera += 1;
+        scene.camera.ray(px, py, settings.width, settings.height)
+    };
+    let key = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample };
+    (ray, CameraSample { key, pixel: patterns, slot: sample, spp: n })
+}
+
+/// Width and height in pixels of the block whose camera rays form one packet.
+const BLOCK: [u32; 2] = [4, 4];
+
+/// A tile traced in packets: each block of [`BLOCK`] pixels sends its camera samples as one
+/// packet per sample index, finds their first hits together ([`closest_hits`], compiled for
+/// `level`), and shades each lane on its own. Every pixel accumulates its samples in the same
+/// order as [`fixed_pixel`], from the same hits, so the image is the same bits.
+fn packet_tile<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    settings: &RenderSettings,
+    level: SimdLevel,
+    [x0, y0, x1, y1]: [u32; 4],
+    rays: &mut RayCounts,
+    out: &mut TileOut,
+) {
+    const { assert!((BLOCK[0] * BLOCK[1]) as usize == LANES) };
+    let tw = x1 - x0;
+    out.pixels.resize(((y1 - y0) * tw) as usize, (Vec3::ZERO, 0));
+    let n = samples_per_pixel(scene, settings);
+    for by in (y0..y1).step_by(BLOCK[1] as usize) {
+        for bx in (x0..x1).step_by(BLOCK[0] as usize) {
+            let mut means = [SampleMean::default(); LANES];
+            let pixel = |lane: usize| {
+                let (x, y) = (bx + lane as u32 % BLOCK[0], by + lane as u32 / BLOCK[0]);
+                (x < x1 && y < y1).then_some((x, y))
             };
-            let key = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample };
-            let camera = CameraSample { key, pixel: patterns, slot: sample, spp: n };
-            mean.add(trace_camera_ray(scene, settings, &ray, camera, rays));
+            for sample in 0..n {
+                let mut packet = RayPacket::<LANES>::default();
+                let mut cameras = [None; LANES];
+                for (lane, camera) in cameras.iter_mut().enumerate() {
+                    if let Some((x, y)) = pixel(lane) {
+                        let (ray, key) = camera_sample(scene, settings, x, y, sample, rays);
+                        packet.set(lane, &ray, 0.0, f32::INFINITY);
+                        *camera = Some(key);
+                    }
+                }
+                let mut cost = TraversalCost::default();
+                let hits = level.run(|| closest_hits(scene, &packet, &mut cost));
+                let lane_cost = cost.per_ray(cameras.iter().flatten().count() as u32);
+                for (lane, camera) in cameras.iter().enumerate() {
+                    if let Some(camera) = *camera {
+                        let mut ctx = PathContext::new(settings, camera, rays);
+                        let ray = packet.ray(lane);
+                        means[lane].add(radiance_at(
+                            scene,
+                            &ray,
+                            hits.hit[lane],
+                            lane_cost,
+                            0,
+                            1.0,
+                            &mut ctx,
+                        ));
+                        ctx.finish();
+                    }
+                }
+            }
+            for (lane, mean) in means.iter().enumerate() {
+                if let Some((x, y)) = pixel(lane) {
+                    out.pixels[((y - y0) * tw + x - x0) as usize] = (mean.mean(), mean.dropped());
+                }
+            }
         }
     }
-    (mean.mean(), mean.dropped())
 }
 
 /// Where in the pixel (in pixel units from its top-left corner) sample `i` of `n` lands.
