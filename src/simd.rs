@@ -79,8 +79,12 @@ impl SimdLevel {
         !matches!(self.resolve(), SimdLevel::Scalar)
     }
 
-    /// Runs `f` compiled for this level's target features (inlined code in `f` is vectorised
-    /// for them); `Auto` is resolved first. On levels the CPU lacks it runs `f` as it is.
+    /// Runs `f` compiled for this level's target features; `Auto` is resolved first. On levels
+    /// the CPU lacks it runs `f` as it is.
+    ///
+    /// Only code inlined into the level's entry point gets the features, so mark the closure
+    /// `#[inline(always)]` (and what it calls, down to the kernels): `level.run(#[inline(always)]
+    /// || closest_hits(...))`. A closure left to the inliner is compiled once, for the baseline.
     #[inline(always)]
     pub fn run<R>(self, f: impl FnOnce() -> R) -> R {
         match self.resolve() {

@@ -144,7 +144,7 @@ fn check<S: PrimitiveStore>(scene: &TraceScene<S>, seed: u64) -> (usize, usize) 
                 .map(|i| p.active[i].then(|| closest_hit(scene, &p.ray(i), p.t_min[i], p.t_max[i])).flatten())
                 .collect();
             for level in [SimdLevel::Baseline, SimdLevel::Auto] {
-                let got = level.run(|| closest_hits(scene, &p, &mut TraversalCost::default()));
+                let got = level.run(#[inline(always)] || closest_hits(scene, &p, &mut TraversalCost::default()));
                 for i in 0..LANES {
                     assert_eq!(
                         bits(got.hit[i]),
@@ -237,7 +237,7 @@ proptest! {
             if !level.available() {
                 continue;
             }
-            let got = level.run(|| {
+            let got = level.run(#[inline(always)] || {
                 let w = WatertightPacket::new(&p, &live);
                 let mut bound = p.t_max;
                 let mut got = [None; 8];

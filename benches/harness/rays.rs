@@ -69,7 +69,7 @@ pub fn trace_primary_packets<S: PrimitiveStore>(
                             p.set(lane, black_box(&rays[(y * w + x) as usize]), 0.0, f32::INFINITY);
                         }
                     }
-                    let hits = level.run(|| closest_hits(scene, &p, &mut Default::default()));
+                    let hits = level.run(#[inline(always)] || closest_hits(scene, &p, &mut Default::default()));
                     found += hits.hit.iter().filter(|h| h.is_some()).count();
                 }
             }

@@ -31,8 +31,110 @@ const MARGIN_RELATIVE: f32 = 8.0 * f32::EPSILON;
 /// Size of the direct-mapped mailbox that keeps a walk from testing an object twice.
 const MAILBOX: usize = 64;
 
+/// The rectangle of cells (inclusive ranges on the two cross axes) that holds every walking
+/// lane's points between two walls of the dominant axis, widened by the rounding margin;
+/// `None` when no lane has points there.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Rect {
+    u: [i64; 2],
+    v: [i64; 2],
+}
+
+/// The smaller of two floats by one compare (no NaN handling: the walk's values are finite or
+/// infinite, never NaN, and either zero of a tie will do for a conservative bound).
+#[inline(always)]
+fn min(a: f32, b: f32) -> f32 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
+/// The larger of two floats by one compare (see [`min`]).
+#[inline(always)]
+fn max(a: f32, b: f32) -> f32 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// A packet's lanes in the frame of one walk: the dominant axis `k` and the cross axes `u`, `v`.
+struct Frame<'a, const N: usize> {
+    grid: &'a UniformGrid,
+    axes: [usize; 3],
+    o: [[f32; N]; 3],
+    d: [[f32; N]; 3],
+    inv_k: [f32; N],
+    t_min: [f32; N],
+}
+
+impl<const N: usize> Frame<'_, N> {
+    /// The cell of coordinate `c` on `axis`, clamped into the grid.
+    #[inline(always)]
+    fn cell_of(&self, axis: usize, c: f32) -> i64 {
+        let g = self.grid;
+        let f = ((c - g.bounds.min[axis]) * g.inv_cell_size[axis]).floor();
+        // NaN (only from infinite inputs) clamps to the first cell, as `max` drops it.
+        (f.max(0.0) as i64).min(i64::from(g.dims[axis]) - 1)
+    }
+
+    /// The rectangle of the `walking` lanes' points between walls `wa` and `wb` of the dominant
+    /// axis (in travel order), each lane cut to `(t_min, bound)`.
+    #[inline(always)]
+    fn rect(&self, wa: f32, wb: f32, walking: &[bool; N], bound: &[f32; N]) -> Option<Rect> {
+        let mut lo = [[f32::INFINITY; N]; 2];
+        let mut hi = [[f32::NEG_INFINITY; N]; 2];
+        for i in 0..N {
+            let a = max((wa - self.o[0][i]) * self.inv_k[i], self.t_min[i]);
+            let b = min((wb - self.o[0][i]) * self.inv_k[i], bound[i]);
+            let valid = walking[i] & (a <= b);
+            for c in 0..2 {
+                let (pa, pb) = (self.o[c + 1][i] + a * self.d[c + 1][i], self.o[c + 1][i] + b * self.d[c + 1][i]);
+                lo[c][i] = if valid { min(pa, pb) } else { f32::INFINITY };
+                hi[c][i] = if valid { max(pa, pb) } else { f32::NEG_INFINITY };
+            }
+        }
+        // Halving reductions: the lanes pair up, so the compiler keeps them in vector registers.
+        let mut width = N;
+        while width > 1 {
+            let half = width / 2;
+            for c in 0..2 {
+                for i in 0..half {
+                    lo[c][i] = min(lo[c][i], lo[c][i + half]);
+                    hi[c][i] = max(hi[c][i], hi[c][i + half]);
+                }
+                if width % 2 == 1 {
+                    lo[c][0] = min(lo[c][0], lo[c][width - 1]);
+                    hi[c][0] = max(hi[c][0], hi[c][width - 1]);
+                }
+            }
+            width = half;
+        }
+        let ext = [[lo[0][0], hi[0][0]], [lo[1][0], hi[1][0]]];
+        if ext[0][0] > ext[0][1] {
+            return None;
+        }
+        let g = self.grid;
+        let mut out = [[0i64; 2]; 2];
+        for c in 0..2 {
+            let axis = self.axes[c + 1];
+            let [l, h] = ext[c];
+            let margin = MARGIN_CELLS * g.cell_size[axis] + MARGIN_RELATIVE * l.abs().max(h.abs());
+            out[c] = [self.cell_of(axis, l - margin), self.cell_of(axis, h + margin)];
+        }
+        Some(Rect { u: out[0], v: out[1] })
+    }
+}
+
 /// Walks `grid` with the `live` lanes of `packet` as one frustum, slice by slice along the
 /// dominant axis, handing every object in each slice's rectangle of cells to `sink` once.
+///
+/// Runs of empty slices are crossed in one step where the grid has skip distances: when every
+/// cell of a slice's rectangle is at least `m` cells from any object, the next `m − 1` slices
+/// are empty wherever their own rectangle stays within `m − 1` cells of it.
 ///
 /// Returns `None`, having visited nothing, when the live lanes disagree on the sign of the
 /// dominant axis (or move along it not at all): the caller walks them one by one instead.
@@ -62,7 +164,8 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
         }
     }
     let first = first?;
-    // The dominant axis of the first lane; every lane must move along it the same way.
+    // The dominant axis of the first lane; every lane must move along it the same way, with a
+    // finite reciprocal.
     let d0 = [packet.dir[0][first], packet.dir[1][first], packet.dir[2][first]];
     let k = if d0[0].abs() >= d0[1].abs() && d0[0].abs() >= d0[2].abs() {
         0
@@ -73,24 +176,19 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
     };
     let forward = d0[k] > 0.0;
     for i in 0..N {
-        if inside[i] && !(if forward { packet.dir[k][i] > 0.0 } else { packet.dir[k][i] < 0.0 }) {
+        let along = if forward { packet.dir[k][i] > 0.0 } else { packet.dir[k][i] < 0.0 };
+        if inside[i] && !(along && packet.inv_dir[k][i].is_finite()) {
             return None;
         }
     }
-    let (ku, kv) = ((k + 1) % 3, (k + 2) % 3);
-    let dims = grid.dims.map(|d| d as i64);
-    let walls = &grid.walls;
-    let size = grid.cell_size.to_array();
-    let inv_size = grid.inv_cell_size.to_array();
-    let lo = grid.bounds.min.to_array();
-    // The cell of coordinate `c` on `axis`, clamped into the grid (conservative bounds only:
-    // callers widen `c` first).
-    let cell_of = |axis: usize, c: f32| -> i64 {
-        let f = ((c - lo[axis]) * inv_size[axis]).floor();
-        if f.is_nan() {
-            return 0;
-        }
-        (f.max(0.0) as i64).min(dims[axis] - 1)
+    let axes = [k, (k + 1) % 3, (k + 2) % 3];
+    let frame = Frame {
+        grid,
+        axes,
+        o: axes.map(|a| packet.origin[a]),
+        d: axes.map(|a| packet.dir[a]),
+        inv_k: packet.inv_dir[k],
+        t_min: packet.t_min,
     };
     // The slices the lanes cross, from their entry and exit points along the dominant axis.
     let (mut near, mut far) = (f32::INFINITY, f32::NEG_INFINITY);
@@ -103,54 +201,33 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
             }
         }
     }
-    let margin_k = MARGIN_CELLS * size[k] + MARGIN_RELATIVE * near.abs().max(far.abs());
-    let (s_lo, s_hi) = (cell_of(k, near - margin_k), cell_of(k, far + margin_k));
+    let margin_k = MARGIN_CELLS * grid.cell_size[k] + MARGIN_RELATIVE * near.abs().max(far.abs());
+    let (s_lo, s_hi) = (frame.cell_of(k, near - margin_k), frame.cell_of(k, far + margin_k));
     let (mut s, last, step) = if forward { (s_lo, s_hi, 1) } else { (s_hi, s_lo, -1) };
+    let dims = grid.dims.map(i64::from);
     let stride = [1i64, dims[0], dims[0] * dims[1]];
+    let [sk, su, sv] = axes.map(|a| stride[a]);
+    let walls = &grid.walls[k];
+    // The walls bounding slice `s` in travel order, and the ray parameter at the far one.
+    let bounds = |s: i64| {
+        let (lo, hi) = (walls[s as usize], walls[s as usize + 1]);
+        if forward {
+            (lo, hi)
+        } else {
+            (hi, lo)
+        }
+    };
     let mut walking = inside;
     let mut mail = [u32::MAX; MAILBOX];
     loop {
-        // Each walking lane's range in this slice, and the rectangle bounding its points there.
-        let (w_near, w_far) = if forward {
-            (walls[k][s as usize], walls[k][s as usize + 1])
-        } else {
-            (walls[k][s as usize + 1], walls[k][s as usize])
-        };
-        let mut t_far = [f32::INFINITY; N];
-        let (mut u_lo, mut u_hi, mut v_lo, mut v_hi) =
-            (f32::INFINITY, f32::NEG_INFINITY, f32::INFINITY, f32::NEG_INFINITY);
-        let mut magnitude = 0.0f32;
-        let mut any = false;
-        for i in 0..N {
-            if !walking[i] {
-                continue;
-            }
-            let (o, inv) = (packet.origin[k][i], packet.inv_dir[k][i]);
-            t_far[i] = (w_far - o) * inv;
-            let a = ((w_near - o) * inv).max(packet.t_min[i]);
-            let b = t_far[i].min(sink.bound()[i]);
-            if !(a <= b) {
-                continue;
-            }
-            any = true;
-            for t in [a, b] {
-                let u = packet.origin[ku][i] + t * packet.dir[ku][i];
-                let v = packet.origin[kv][i] + t * packet.dir[kv][i];
-                u_lo = u_lo.min(u);
-                u_hi = u_hi.max(u);
-                v_lo = v_lo.min(v);
-                v_hi = v_hi.max(v);
-                magnitude = magnitude.max(u.abs()).max(v.abs());
-            }
-        }
-        if any {
-            let mu = MARGIN_CELLS * size[ku] + MARGIN_RELATIVE * magnitude;
-            let mv = MARGIN_CELLS * size[kv] + MARGIN_RELATIVE * magnitude;
-            let (cu0, cu1) = (cell_of(ku, u_lo - mu), cell_of(ku, u_hi + mu));
-            let (cv0, cv1) = (cell_of(kv, v_lo - mv), cell_of(kv, v_hi + mv));
-            for cv in cv0..=cv1 {
-                for cu in cu0..=cu1 {
-                    let cell = (s * stride[k] + cu * stride[ku] + cv * stride[kv]) as u32;
+        let (w_near, w_far) = bounds(s);
+        let mut jump = 0;
+        if let Some(r) = frame.rect(w_near, w_far, &walking, sink.bound()) {
+            let mut clearance = u8::MAX;
+            for cv in r.v[0]..=r.v[1] {
+                for cu in r.u[0]..=r.u[1] {
+                    let cell = (s * sk + cu * su + cv * sv) as u32;
+                    clearance = clearance.min(grid.skip.get(cell as usize).copied().unwrap_or(0));
                     let prims = grid.cell_prims(cell);
                     if prims.is_empty() {
                         continue;
@@ -166,16 +243,34 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
                     }
                 }
             }
+            // Every cell within `clearance − 1` of the rectangle is empty: jump the slices
+            // ahead whose rectangle stays inside that box.
+            let reach = i64::from(clearance) - 1;
+            let ahead = reach.min((last - s) * step);
+            if ahead >= 1 {
+                let (w_from, _) = bounds(s + step);
+                let (_, w_to) = bounds(s + step * ahead);
+                let inside_box = |q: Rect| {
+                    q.u[0] >= r.u[0] - reach
+                        && q.u[1] <= r.u[1] + reach
+                        && q.v[0] >= r.v[0] - reach
+                        && q.v[1] <= r.v[1] + reach
+                };
+                if frame.rect(w_from, w_to, &walking, sink.bound()).is_none_or(inside_box) {
+                    jump = ahead;
+                }
+            }
         }
-        // A lane is done once its nearest hit lies before this slice's far wall, or once it
-        // has left the grid; the walk once every lane is.
+        // A lane is done once its nearest hit lies before the far wall of the last slice
+        // searched, or once it has left the grid; the walk once every lane is.
+        let (_, w_done) = bounds(s + step * jump);
         let mut more = false;
         for i in 0..N {
-            if walking[i] && (sink.bound()[i] <= t_far[i] || t_far[i] >= t_out[i]) {
-                walking[i] = false;
-            }
+            let t_far = (w_done - packet.origin[k][i]) * packet.inv_dir[k][i];
+            walking[i] &= !(sink.bound()[i] <= t_far || t_far >= t_out[i]);
             more |= walking[i];
         }
+        s += step * jump;
         if !more || s == last {
             break;
         }
