@@ -232,6 +232,7 @@ pub fn run_named(args: &AnimateArgs, argv: &[String], names: Option<(&str, &str)
                         rays: FrameEntry::rays_of(&stats),
                         mrays_per_s: stats.mrays_per_s(),
                         host: host.clone(),
+                        simd: stats.simd.name().to_owned(),
                         shard: shard.to_string(),
                         files: inputs.files.clone(),
                     })?;
