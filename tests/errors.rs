@@ -384,6 +384,7 @@ fn rows() -> Vec<Row> {
         flag_row("--exposure 99", &["--exposure", "99"], &["--exposure", "[-30, 30]"]),
         flag_row("--white 0", &["--white", "0"], &["--white", "> 0"]),
         flag_row("--layout bad", &["--layout", "bad"], &["--layout", "possible values"]),
+        flag_row("--simd bogus", &["--simd", "sse9"], &["--simd", "unknown SIMD level `sse9`", "auto, scalar, baseline, avx2, avx512"]),
         flag_row("--adaptive with --no-adaptive", &["--adaptive", "0.1", "--no-adaptive"], &["--no-adaptive", "cannot be used with"]),
         row("unknown output extension", 2, &["render", "{dir}/s.ron", "-o", "{dir}/out.txt"])
             .valid_inputs()
@@ -395,6 +396,7 @@ fn rows() -> Vec<Row> {
         animate_row("animate --fps 0", &with(ANIMATE, &["--fps", "0"]), &["--fps", "fps must be a number in (0, 1000]"]),
         animate_row("animate --split bogus", &with(ANIMATE, &["--split", "bogus"]), &["--split", "unknown split `bogus`"]),
         animate_row("animate --video with EXR frames", &with(ANIMATE, &["--format", "exr-half", "--video", "{dir}/v.mp4"]), &["--video", "encoding needs PNG frames"]),
+        row("report --simd bogus", 2, &with(REPORT, &["--simd", "sse9"])).valid_inputs().says(&["--simd", "unknown SIMD level `sse9`"]),
         row("report --runs 0", 2, &["report", "{dir}/s.ron", "--runs", "0", "--quiet", "-o", "{dir}/out"]).valid_inputs().says(&["--runs", "1..=99"]),
         row("report sweep file: bad sample count", 2, &with(REPORT, &["--sweep", "{dir}/w.ron"]))
             .valid_inputs()

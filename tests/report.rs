@@ -251,7 +251,7 @@ fn configurations_render_once_per_round_in_interleaved_rounds() {
     let sweep =
         SweepDesc::parse("Sweep(axes: [Aa(samples: [4, 4]), AreaLight(samples: [4, 16])])", "sweep.ron")
             .unwrap();
-    let options = Options { runs: 3, reference: None };
+    let options = Options { runs: 3, ..Options::default() };
     let labels = std::sync::Mutex::new(Vec::new());
     let progress = |label: &str| labels.lock().unwrap().push(label.to_owned());
     let report = run(&desc, "scene.ron", &sweep, &options, tmp.path(), &progress).unwrap();

@@ -116,6 +116,11 @@ pub struct FrameEntry {
     pub mrays_per_s: f64,
     /// Host that rendered it.
     pub host: String,
+    /// The SIMD level that traced it, resolved (`scalar`, `baseline`, `avx2`, `avx512`; empty in
+    /// entries written before it was recorded). Informational, like the host: every level gives
+    /// the same pixels, so it is no part of the inputs hash.
+    #[serde(default)]
+    pub simd: String,
     /// Shard that rendered it (`INDEX/COUNT`).
     pub shard: String,
     /// The input files it was made from, with their hashes (empty in entries written before
@@ -463,6 +468,7 @@ mod tests {
             rays: BTreeMap::new(),
             mrays_per_s: 1.0,
             host: "h".into(),
+            simd: "scalar".into(),
             shard: "0/1".into(),
             files,
         }

@@ -97,6 +97,7 @@ pub fn run(args: &AnimateArgs, argv: &[String]) -> anyhow::Result<()> {
 /// [`run`], recording the scene and script under `names` (the names they were given when the
 /// frame was first made; `info --rerender` reads them from wherever they are now).
 pub fn run_named(args: &AnimateArgs, argv: &[String], names: Option<(&str, &str)>) -> anyhow::Result<()> {
+    args.frame.check_simd()?;
     let mut desc: SceneDesc = scene::load_scene(&args.scene)?;
     let scene_source =
         std::fs::read(&args.scene).with_context(|| format!("{}: cannot read scene", args.scene.display()))?;
@@ -209,7 +210,7 @@ pub fn run_named(args: &AnimateArgs, argv: &[String], names: Option<(&str, &str)
                 let rebuilds = animation.world().world().grid_rebuilds();
                 let snapshot = animation.step_to(*n)?;
                 let rebuilt = animation.world().world().grid_rebuilds() > rebuilds;
-                let settings = animation.world().world().render_settings();
+                let settings = args.frame.settings(animation.world().world().render_settings());
                 bars.start_frame(*n, tile_count(settings.width, settings.height));
                 let on_tile = |done: u32, total: u32| bars.tile(done, total);
                 let (film, aovs, mut stats) = render_observed(&snapshot, &settings, wanted, &on_tile);
@@ -232,6 +233,7 @@ pub fn run_named(args: &AnimateArgs, argv: &[String], names: Option<(&str, &str)
                         rays: FrameEntry::rays_of(&stats),
                         mrays_per_s: stats.mrays_per_s(),
                         host: host.clone(),
+                        simd: stats.simd.name().to_owned(),
                         shard: shard.to_string(),
                         files: inputs.files.clone(),
                     })?;

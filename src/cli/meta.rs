@@ -4,6 +4,7 @@
 use penumbra::film::{Metadata, ToneMapping};
 pub use penumbra::scene::inputs::sha256_hex;
 use penumbra::scene::inputs::{InputRole, Inputs};
+use penumbra::simd::SimdLevel;
 use penumbra::trace::RenderSettings;
 
 /// Metadata keys.
@@ -26,7 +27,10 @@ pub const INPUTS: &str = "penumbra.inputs";
 
 /// The metadata of a render: program version, every input file and its hash, frame, seed,
 /// settings, tone mapping and the replay arguments. Nothing time- or host-dependent, so
-/// re-rendering gives the same bytes.
+/// re-rendering gives the same bytes: the settings are recorded with `simd` at `auto`, since
+/// the level (`--simd`, or what `auto` found on this CPU) never changes the pixels and an image
+/// must be the same file whichever level traced it (the level used is in `--stats` and in an
+/// animation's manifest).
 pub fn describe(
     inputs: &Inputs,
     settings: &RenderSettings,
@@ -49,6 +53,7 @@ pub fn describe(
     m.set(INPUTS, inputs.to_json());
     m.set("penumbra.frame", settings.frame.to_string());
     m.set("penumbra.seed", settings.seed.to_string());
+    let settings = RenderSettings { simd: SimdLevel::Auto, ..*settings };
     m.set("penumbra.settings", format!("{settings:?}"));
     m.set("penumbra.tonemap", format!("{tone:?}"));
     m.set(ARGS, serde_json::Value::from(replay.to_vec()).to_string());
@@ -56,12 +61,22 @@ pub fn describe(
 }
 
 /// The arguments that make frame `frame` of an `animate` command line again: `animate`, then
-/// everything that determines the image, with `--frames` narrowed to the one frame.
+/// everything that determines the image, with `--frames` narrowed to the one frame (without
+/// `--threads` and `--simd`, which never change the pixels, so a frame re-renders on any CPU).
 pub fn animate_replay(argv: &[String], frame: u32) -> Vec<String> {
     let mut tokens = argv.iter().skip(1).skip_while(|t| t.as_str() != "animate").skip(1);
     let mut kept = vec!["animate".to_owned()];
-    let with_value =
-        ["-o", "--output", "--threads", "--video", "--frames", "--shard", "--shard-count", "--split"];
+    let with_value = [
+        "-o",
+        "--output",
+        "--threads",
+        "--simd",
+        "--video",
+        "--frames",
+        "--shard",
+        "--shard-count",
+        "--split",
+    ];
     while let Some(t) = tokens.next() {
         let flag = t.split_once('=').map_or(t.as_str(), |(f, _)| f);
         if t == "--quiet" || t == "--force" || (t.starts_with("-o") && t.len() > 2 && !t.starts_with("--")) {
@@ -80,8 +95,9 @@ pub fn animate_replay(argv: &[String], frame: u32) -> Vec<String> {
 }
 
 /// The render arguments of a command line that determine the image: everything after the
-/// program name and `render`, without the output path, the statistics file, the thread count
-/// and `--quiet` (which never change the pixels).
+/// program name and `render`, without the output path, the statistics file, the thread count,
+/// the SIMD level and `--quiet` (which never change the pixels; without `--simd`, `info
+/// --rerender` works on a CPU that lacks the level the image was traced with).
 pub fn replay_tokens(argv: &[String]) -> Vec<String> {
     let mut tokens = argv.iter().skip(1).peekable();
     if tokens.peek().is_some_and(|t| t.as_str() == "render") {
@@ -89,7 +105,7 @@ pub fn replay_tokens(argv: &[String]) -> Vec<String> {
     }
     let mut kept = Vec::new();
     while let Some(t) = tokens.next() {
-        let with_value = ["-o", "--output", "--stats", "--threads"];
+        let with_value = ["-o", "--output", "--stats", "--threads", "--simd"];
         if t == "--quiet" {
             // Progress display only.
         } else if with_value.contains(&t.as_str()) {
@@ -97,7 +113,7 @@ pub fn replay_tokens(argv: &[String]) -> Vec<String> {
         } else if with_value.iter().any(|f| t.starts_with(&format!("{f}=")))
             || (t.starts_with("-o") && !t.starts_with("--"))
         {
-            // `--output=x`, `--stats=x`, `--threads=x`, `-ox`: the value is attached.
+            // `--output=x`, `--stats=x`, `--threads=x`, `--simd=x`, `-ox`: the value is attached.
         } else {
             kept.push(t.clone());
         }
@@ -114,7 +130,7 @@ mod tests {
     }
 
     #[test]
-    fn replay_drops_outputs_and_threads_only() {
+    fn replay_drops_outputs_threads_and_simd_only() {
         let argv = strings(&[
             "penumbra",
             "render",
@@ -124,6 +140,8 @@ mod tests {
             "--width",
             "64",
             "--threads=2",
+            "--simd",
+            "scalar",
             "--stats",
             "s.json",
             "--aov",
@@ -133,7 +151,7 @@ mod tests {
         assert_eq!(replay_tokens(&argv), strings(&["s.ron", "--width", "64", "--aov", "depth"]));
         assert_eq!(replay_tokens(&strings(&["penumbra"])), Vec::<String>::new());
         assert_eq!(
-            replay_tokens(&strings(&["penumbra", "render", "-ox.png", "--output=y.exr"])),
+            replay_tokens(&strings(&["penumbra", "render", "-ox.png", "--output=y.exr", "--simd=avx512"])),
             Vec::<String>::new()
         );
     }
@@ -155,6 +173,8 @@ mod tests {
             "v.mp4",
             "--quiet",
             "--threads=2",
+            "--simd",
+            "avx2",
             "--width",
             "64",
         ]);
@@ -162,7 +182,8 @@ mod tests {
             animate_replay(&argv, 17),
             strings(&["animate", "s.ron", "f.rhai", "--fps", "24", "--width", "64", "--frames", "17"])
         );
-        let argv = strings(&["penumbra", "animate", "--frames=3..5", "s.ron", "f.rhai", "-ofr"]);
+        let argv =
+            strings(&["penumbra", "animate", "--frames=3..5", "s.ron", "f.rhai", "-ofr", "--simd=scalar"]);
         assert_eq!(animate_replay(&argv, 4), strings(&["animate", "s.ron", "f.rhai", "--frames", "4"]));
     }
 

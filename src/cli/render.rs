@@ -17,6 +17,7 @@ use penumbra::film::{
 use penumbra::sample::Pattern;
 use penumbra::scene::inputs::Inputs;
 use penumbra::scene::{self, AdaptiveDesc, LightDesc, SceneDesc};
+use penumbra::simd::SimdLevel;
 use penumbra::store::{AosStore, PrimitiveStore, SoaStore};
 use penumbra::trace::{render_observed, RenderSettings, RenderStats};
 use penumbra::world::SceneWorld;
@@ -68,6 +69,11 @@ pub struct FrameArgs {
     /// Worker threads (default: one per core).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
+    /// How rays are traced: auto (the best level this CPU has), scalar (single rays, the
+    /// reference), or packets compiled for baseline, avx2 or avx512. Every level gives the same
+    /// image, bit for bit; a level this CPU lacks is refused.
+    #[arg(long, value_name = "LEVEL", default_value_t = SimdLevel::Auto)]
+    pub simd: SimdLevel,
     /// Sample count of an effect, e.g. `--samples aa=16` (aa, lens, area_light, glossy; repeatable).
     #[arg(long, value_name = "EFFECT=N", value_parser = parse_samples)]
     samples: Vec<(Effect, u32)>,
@@ -217,7 +223,8 @@ pub fn run(args: &RenderArgs, replay: &[String]) -> anyhow::Result<()> {
 /// what the original said).
 pub fn run_named(args: &RenderArgs, replay: &[String], scene_name: Option<&str>) -> anyhow::Result<()> {
     let started = Instant::now();
-    // Outputs first: a wrong format or an unwritable folder fails before any work.
+    // A level this CPU lacks, a wrong format or an unwritable folder fails before any work.
+    args.frame.check_simd()?;
     let format = args.frame.format_for(&args.output)?;
     prepare_output(&args.output)?;
     if let Some(stats) = &args.stats {
@@ -256,8 +263,8 @@ pub fn run_named(args: &RenderArgs, replay: &[String], scene_name: Option<&str>)
         bar.set_position(u64::from(done));
     };
     let (film, aovs, mut stats, settings) = pool.install(|| match args.layout {
-        Layout::Soa => render_frame::<SoaStore>(&desc, wanted, &on_tile),
-        Layout::Aos => render_frame::<AosStore>(&desc, wanted, &on_tile),
+        Layout::Soa => render_frame::<SoaStore>(&desc, &args.frame, wanted, &on_tile),
+        Layout::Aos => render_frame::<AosStore>(&desc, &args.frame, wanted, &on_tile),
     });
     bar.finish_and_clear();
     stats.times.mesh_grid_build = desc.meshes.grid_build_seconds();
@@ -298,9 +305,11 @@ pub fn tile_bar(quiet: bool) -> ProgressBar {
     ProgressBar::with_draw_target(None, target).with_style(style)
 }
 
-/// Spawns, updates and renders one frame with primitive layout `S`.
+/// Spawns, updates and renders one frame with primitive layout `S` and the engine options of
+/// `frame` (`--simd`).
 fn render_frame<S: PrimitiveStore>(
     desc: &SceneDesc,
+    frame: &FrameArgs,
     wanted: AovSet,
     on_tile: &(dyn Fn(u32, u32) + Sync),
 ) -> (Film, Option<Aovs>, RenderStats, RenderSettings) {
@@ -308,7 +317,7 @@ fn render_frame<S: PrimitiveStore>(
     let mut world: SceneWorld<S> = scene::spawn_world(desc);
     let spawn = started.elapsed().as_secs_f64();
     let snapshot = world.update();
-    let settings = world.render_settings();
+    let settings = frame.settings(world.render_settings());
     let clock = world.stage_clock();
     let (film, aovs, mut stats) = render_observed(&snapshot, &settings, wanted, on_tile);
     stats.times.world_update = spawn + clock.bounds;
@@ -386,6 +395,19 @@ impl FrameArgs {
         }
     }
 
+    /// Refuses (exit 2) a `--simd` level this CPU lacks, naming the levels it has; called
+    /// before any output is prepared or anything rendered.
+    pub fn check_simd(&self) -> anyhow::Result<()> {
+        check_simd(self.simd)
+    }
+
+    /// The World's render settings of a frame with the command line's engine options set
+    /// (`--simd`; they choose how rays are traced, never the pixels). Every frame a command
+    /// renders goes through here.
+    pub fn settings(&self, settings: RenderSettings) -> RenderSettings {
+        RenderSettings { simd: self.simd, ..settings }
+    }
+
     /// The encoding of `output`: `--format`, else from its extension. A format that
     /// contradicts a known extension (`-o a.exr --format png16`) is refused.
     pub fn format_for(&self, output: &Path) -> anyhow::Result<OutputFormat> {
@@ -417,10 +439,20 @@ impl FrameArgs {
         }
     }
 
-    /// Every option that changes the pixels, as text (the thread count, the memory limit and
-    /// `--strict` never do).
+    /// Every option that changes the pixels, as text (the thread count, the SIMD level, the
+    /// memory limit and `--strict` never do). `animate` keys its frames on it, so a resumed
+    /// run on another CPU (or with another `--simd`) skips the frames already done.
     pub fn fingerprint(&self) -> String {
-        format!("{:?}", FrameArgs { threads: None, max_memory: None, strict: false, ..self.clone() })
+        let pixels_only = FrameArgs {
+            threads: None,
+            simd: SimdLevel::Auto,
+            max_memory: None,
+            strict: false,
+            ..self.clone()
+        };
+        // `--simd` is left out of the text altogether, so it is the text of the options before
+        // `--simd` existed and frames folders made then still resume.
+        format!("{pixels_only:?}").replacen(&format!("simd: {:?}, ", SimdLevel::Auto), "", 1)
     }
 
     /// Refuses a frame of `desc` (sizes and overrides applied) that needs more memory than
@@ -438,6 +470,30 @@ impl FrameArgs {
             .build()
             .context("cannot start worker threads")
     }
+}
+
+/// Refuses (exit 2) `--simd LEVEL` when this CPU lacks the level: the message names the
+/// option, the level, what the CPU is missing and the levels it has.
+pub fn check_simd(level: SimdLevel) -> anyhow::Result<()> {
+    match simd_refusal(level, SimdLevel::available) {
+        None => Ok(()),
+        Some(message) => Err(bad_input(message)),
+    }
+}
+
+/// Why `--simd level` cannot run on a CPU that has the levels `has` accepts, if it cannot.
+fn simd_refusal(level: SimdLevel, has: impl Fn(SimdLevel) -> bool) -> Option<String> {
+    if has(level) {
+        return None;
+    }
+    let missing = match level {
+        SimdLevel::Avx2 => "AVX2 and FMA (x86-64-v3)",
+        SimdLevel::Avx512 => "AVX-512 F/BW/CD/DQ/VL (x86-64-v4)",
+        // `auto`, `scalar` and `baseline` run everywhere.
+        other => other.name(),
+    };
+    let available: Vec<&str> = SimdLevel::ALL.into_iter().filter(|&l| has(l)).map(SimdLevel::name).collect();
+    Some(format!("--simd {level}: this CPU does not support {missing}; available: {}", available.join(", ")))
 }
 
 /// Applies `--width` / `--height`; one alone keeps the scene's aspect ratio.
@@ -537,4 +593,50 @@ fn report(
         ),
     };
     say(&text)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_level_the_cpu_lacks_is_refused_naming_the_option_and_the_levels_it_has() {
+        let without_avx512 = |l: SimdLevel| l != SimdLevel::Avx512;
+        assert_eq!(simd_refusal(SimdLevel::Avx2, without_avx512), None);
+        assert_eq!(
+            simd_refusal(SimdLevel::Avx512, without_avx512).as_deref(),
+            Some(
+                "--simd avx512: this CPU does not support AVX-512 F/BW/CD/DQ/VL (x86-64-v4); \
+                 available: auto, scalar, baseline, avx2"
+            )
+        );
+        let baseline_only = |l: SimdLevel| !matches!(l, SimdLevel::Avx2 | SimdLevel::Avx512);
+        let message = simd_refusal(SimdLevel::Avx2, baseline_only).unwrap();
+        assert!(message.starts_with("--simd avx2: this CPU does not support AVX2"), "{message}");
+        assert!(message.ends_with("available: auto, scalar, baseline"), "{message}");
+        // What this CPU has always passes.
+        for level in SimdLevel::ALL.into_iter().filter(|l| l.available()) {
+            assert!(check_simd(level).is_ok(), "{level}");
+        }
+    }
+
+    #[test]
+    fn the_simd_level_is_no_part_of_the_fingerprint_and_reaches_the_settings() {
+        use clap::Parser;
+        let parse = |extra: &[&str]| {
+            let argv = [&["penumbra", "animate", "s.ron", "f.rhai", "--frames", "0"][..], extra].concat();
+            match super::super::Cli::parse_from(argv).command {
+                Some(super::super::Command::Animate(args)) => args.frame,
+                other => panic!("not an animation: {other:?}"),
+            }
+        };
+        let (auto, scalar) = (parse(&[]), parse(&["--simd", "scalar"]));
+        assert_eq!(auto.simd, SimdLevel::Auto);
+        assert_eq!(scalar.simd, SimdLevel::Scalar);
+        assert_eq!(auto.fingerprint(), scalar.fingerprint());
+        assert!(!auto.fingerprint().contains("simd"), "{}", auto.fingerprint());
+        assert_ne!(auto.fingerprint(), parse(&["--width", "9"]).fingerprint());
+        assert_eq!(scalar.settings(RenderSettings::default()).simd, SimdLevel::Scalar);
+        assert_eq!(parse(&["--simd", "AVX2"]).simd, SimdLevel::Avx2);
+    }
 }

@@ -13,10 +13,11 @@ use penumbra::report::run::{csv, effects_of, render_count, run as run_report, Op
 use penumbra::report::sweep::SweepDesc;
 use penumbra::report::{html, plot};
 use penumbra::scene;
+use penumbra::simd::SimdLevel;
 
 use super::bad_input;
 use super::meta::{sha256_hex, SCENE, SCENE_HASH};
-use super::render::{apply_size, say};
+use super::render::{apply_size, check_simd, say};
 
 /// Arguments of `penumbra report`.
 #[derive(Args, Debug)]
@@ -51,6 +52,11 @@ pub struct ReportArgs {
     /// Worker threads (default: one per core).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
+    /// How rays are traced: auto (the best level this CPU has), scalar (single rays, the
+    /// reference), or packets compiled for baseline, avx2 or avx512. Every level gives the same
+    /// images, bit for bit, so only the times depend on it; a level this CPU lacks is refused.
+    #[arg(long, value_name = "LEVEL", default_value_t = SimdLevel::Auto)]
+    pub simd: SimdLevel,
     /// No progress bar or summary.
     #[arg(long)]
     pub quiet: bool,
@@ -94,6 +100,7 @@ fn check_provenance(args: &ReportArgs, path: &std::path::Path, file: &ReferenceF
 
 /// Runs the report and writes its files.
 pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
+    check_simd(args.simd)?;
     let mut desc = scene::load_scene(&args.scene)?;
     apply_size(&mut desc, args.width, args.height);
     let sweep = match &args.sweep {
@@ -116,7 +123,7 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
     }
     std::fs::create_dir_all(&args.output)
         .with_context(|| format!("{}: cannot create the report folder", args.output.display()))?;
-    let options = Options { runs: args.runs as usize, reference };
+    let options = Options { runs: args.runs as usize, reference, simd: args.simd };
 
     let bar = ProgressBar::with_draw_target(
         Some(render_count(&desc, &sweep, &options) as u64),

@@ -39,6 +39,7 @@ pub struct SweepArgs {
 
 /// Runs the sweep as `args` say.
 pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
+    args.frame.check_simd()?;
     let mut desc: SceneDesc = scene::load_scene(&args.scene)?;
     let scene_source =
         std::fs::read(&args.scene).with_context(|| format!("{}: cannot read scene", args.scene.display()))?;
@@ -76,7 +77,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
             world.apply(set, index)?;
             let script_seconds = started.elapsed().as_secs_f64();
             let snapshot = world.update();
-            let settings = world.world().render_settings();
+            let settings = args.frame.settings(world.world().render_settings());
             let clock = world.world().stage_clock();
             let (film, aovs, mut stats) = render_with_aovs(&snapshot, &settings, wanted);
             stats.times.script = script_seconds;

@@ -137,6 +137,7 @@ fn summary(page: &mut String, r: &Report) {
         ("Scene", escape(&r.scene)),
         ("Image", format!("{} × {} px", r.width, r.height)),
         ("Threads", r.threads.to_string()),
+        ("SIMD", r.simd.name().to_owned()),
         ("Reference", format!("{} ({})", escape(&r.reference.description), escape(&reference_time))),
         (
             "Variants",

@@ -10,6 +10,7 @@ pub mod sweep;
 
 use serde::Serialize;
 
+use crate::simd::SimdLevel;
 use crate::trace::RayCounts;
 
 /// One rendered variant of the sweep.
@@ -44,6 +45,11 @@ pub struct Point {
     pub image: String,
     /// Its error heat map against the reference, a PNG file name relative to the report folder.
     pub heatmap: String,
+}
+
+/// A SIMD level as its name (`avx2`), as `--simd` takes it.
+fn simd_name<S: serde::Serializer>(level: &SimdLevel, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(level.name())
 }
 
 /// A float as a JSON number, or the string `"inf"` when infinite (JSON has no infinity).
@@ -91,6 +97,9 @@ pub struct Report {
     pub height: u32,
     /// Worker threads.
     pub threads: usize,
+    /// The SIMD level every render traced its rays with (`--simd`, resolved: never `auto`).
+    #[serde(serialize_with = "simd_name")]
+    pub simd: SimdLevel,
     /// The reference.
     pub reference: Reference,
     /// Every variant, grouped by axis in sweep order.
@@ -160,6 +169,7 @@ mod tests {
             width: 1,
             height: 1,
             threads: 1,
+            simd: SimdLevel::Scalar,
             reference: Reference {
                 description: String::new(),
                 seconds: 0.0,

@@ -581,6 +581,7 @@ pub(crate) mod tests {
             width: 320,
             height: 240,
             threads: 8,
+            simd: crate::simd::SimdLevel::Avx2,
             reference: Reference {
                 description: "aa 256 jittered, area_light 256".into(),
                 seconds: 41.5,

@@ -11,6 +11,7 @@ use super::{EffectCost, Point, Reference, Report};
 use crate::film::metrics::{error_heatmap, psnr, rmse, ssim};
 use crate::film::{write_atomically, write_png, Film, OutputError};
 use crate::scene::{spawn_world, SceneDesc};
+use crate::simd::SimdLevel;
 use crate::store::SoaStore;
 use crate::trace::{render, Effects, RenderSettings, RenderStats, TraceScene};
 use crate::world::SceneWorld;
@@ -72,11 +73,14 @@ pub struct Options {
     pub runs: usize,
     /// A reference image read instead of rendered (its film and a description of the file).
     pub reference: Option<(Film, String)>,
+    /// How every render traces its rays (`--simd`; the same images at every level, so only
+    /// the times depend on it).
+    pub simd: SimdLevel,
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Self { runs: DEFAULT_RUNS, reference: None }
+        Self { runs: DEFAULT_RUNS, reference: None, simd: SimdLevel::Auto }
     }
 }
 
@@ -153,10 +157,11 @@ pub fn effects_of(desc: &SceneDesc) -> Effects {
 /// A scene ready to render: its snapshot and settings.
 type Prepared = (Arc<TraceScene<SoaStore>>, RenderSettings);
 
-fn prepare(desc: &SceneDesc) -> Prepared {
+/// `desc` ready to render, its rays traced at `simd`.
+fn prepare(desc: &SceneDesc, simd: SimdLevel) -> Prepared {
     let mut world: SceneWorld = spawn_world(desc);
     let snapshot = world.update();
-    (snapshot, world.render_settings())
+    (snapshot, RenderSettings { simd, ..world.render_settings() })
 }
 
 /// Axes whose cost is measured: those in the sweep that the scene's own settings use.
@@ -243,7 +248,7 @@ pub fn run(
             (film.clone(), info)
         }
         None => {
-            let (snapshot, settings) = prepare(&sweep.reference.apply(desc));
+            let (snapshot, settings) = prepare(&sweep.reference.apply(desc), options.simd);
             progress("reference");
             let started = Instant::now();
             let (film, stats) = render(&snapshot, &settings);
@@ -267,7 +272,7 @@ pub fn run(
     for (i, (&c, variant)) in plan.variants.iter().zip(&variants).enumerate() {
         stems[c].get_or_insert_with(|| format!("{i:02}-{}", slug(&variant.label())));
     }
-    let prepared: Vec<Prepared> = plan.configs.iter().map(|(_, d)| prepare(d)).collect();
+    let prepared: Vec<Prepared> = plan.configs.iter().map(|(_, d)| prepare(d, options.simd)).collect();
     let mut times = vec![Vec::with_capacity(options.runs.max(1)); plan.configs.len()];
     let mut measured: Vec<Option<Measured>> = (0..plan.configs.len()).map(|_| None).collect();
     for c in schedule(plan.configs.len(), options.runs) {
@@ -314,6 +319,7 @@ pub fn run(
         width,
         height,
         threads: rayon::current_num_threads(),
+        simd: options.simd.resolve(),
         reference: reference_info,
         points,
         costs,
@@ -418,7 +424,7 @@ mod tests {
         let labels: Vec<&str> = plan.configs.iter().map(|(l, _)| l.as_str()).collect();
         assert_eq!(labels, ["aa 2 jittered", "aa 8 jittered", "area_light 16", "aa off", "area_light off"]);
         assert_eq!(plan.costs, [("aa", 0, 3), ("area_light", 0, 4)]);
-        let options = Options { runs: 3, reference: None };
+        let options = Options { runs: 3, ..Options::default() };
         assert_eq!(render_count(&desc, &sweep, &options), 1 + 5 * 3);
     }
 }

@@ -438,7 +438,7 @@ impl RenderStats {
         let t = &self.times;
         let r = &self.rays;
         format!(
-            "image      {}x{}, {} threads, {} camera samples per pixel, effects: {}\n\
+            "image      {}x{}, {} threads, simd {}, {} camera samples per pixel, effects: {}\n\
              rays       {} total: camera {}, lens {}, shadow {}, area shadow {}, reflection {}, glossy {}, refraction {}, blurry {}\n\
              adaptive   {} points traced, {} reused, {} subdivisions\n\
              {}\n\
@@ -451,6 +451,7 @@ impl RenderStats {
             self.width,
             self.height,
             self.threads,
+            self.simd,
             self.samples_per_pixel,
             if self.effects.names().is_empty() { "none".to_string() } else { self.effects.names().join(", ") },
             r.total(),
@@ -541,6 +542,13 @@ mod tests {
         let json = serde_json::to_value(&stats).unwrap();
         assert_eq!(json["ray_budget"]["cut_samples"], 2);
         assert_eq!(json["ray_budget"]["max_secondary_rays"], 1024);
+    }
+
+    #[test]
+    fn the_level_that_traced_is_in_the_summary_and_the_json() {
+        let stats = RenderStats { threads: 2, simd: crate::simd::SimdLevel::Avx2, ..Default::default() };
+        assert!(stats.summary().contains("2 threads, simd avx2,"), "{}", stats.summary());
+        assert_eq!(serde_json::to_value(&stats).unwrap()["simd"], "avx2");
     }
 
     #[test]
