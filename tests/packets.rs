@@ -17,7 +17,7 @@ use penumbra::geom::{MeshId, Shape};
 use penumbra::math::{Affine3A, Quat, Ray, RayPacket, Vec3};
 use penumbra::simd::SimdLevel;
 use penumbra::store::{AosStore, Hit, MaterialId, MeshAsset, PlacedObject, PrimitiveStore, TraversalCost};
-use penumbra::trace::packet::{closest_hits, LANES};
+use penumbra::trace::packet::{closest_hits, occluded, LANES};
 use penumbra::trace::{closest_hit, TraceScene};
 use proptest::prelude::*;
 use rand::rngs::StdRng;
@@ -144,7 +144,10 @@ fn check<S: PrimitiveStore>(scene: &TraceScene<S>, seed: u64) -> (usize, usize) 
                 .map(|i| p.active[i].then(|| closest_hit(scene, &p.ray(i), p.t_min[i], p.t_max[i])).flatten())
                 .collect();
             for level in [SimdLevel::Baseline, SimdLevel::Auto] {
-                let got = level.run(#[inline(always)] || closest_hits(scene, &p, &mut TraversalCost::default()));
+                let got = level.run(
+                    #[inline(always)]
+                    || closest_hits(scene, &p, &mut TraversalCost::default()),
+                );
                 for i in 0..LANES {
                     assert_eq!(
                         bits(got.hit[i]),
@@ -303,6 +306,106 @@ fn every_shipped_scene_renders_the_same_bits_on_every_path() {
                     path.display()
                 );
             }
+        }
+    }
+}
+
+/// Shadow packets: from one point to 16 points of a square "light" (an area light's samples),
+/// and from 16 scattered points to one point (a point light seen from a packet of hits).
+fn shadow_packet(rng: &mut StdRng, shared_origin: bool) -> RayPacket<LANES> {
+    let mut p = RayPacket::<LANES>::default();
+    let common = point_in(rng, Vec3::splat(-5.0), Vec3::splat(5.0));
+    let light = point_in(rng, Vec3::splat(-8.0), Vec3::splat(8.0));
+    let (eu, ev) = (unit_vector(rng) * 2.0, unit_vector(rng) * 2.0);
+    for i in 0..LANES {
+        let (from, to) = if shared_origin {
+            (common, light + eu * rng.random::<f32>() + ev * rng.random::<f32>())
+        } else {
+            (common + unit_vector(rng) * rng.random_range(0.0..3.0), light)
+        };
+        let d = to - from;
+        if d.length() > 1e-3 {
+            p.set(i, &Ray::new(from, d.normalize()), 0.0, d.length() * 0.999);
+        }
+    }
+    p
+}
+
+#[test]
+fn shadow_packets_block_exactly_the_lanes_single_rays_find_blocked() {
+    let (mut lanes, mut blocked) = (0, 0);
+    for seed in 0..4 {
+        let scene = scene::<penumbra::store::SoaStore>(seed);
+        assert!(!scene.effects.transmission, "the fixture is opaque");
+        let mut rng = rng(seed ^ 0x5eed);
+        for round in 0..200 {
+            let p = shadow_packet(&mut rng, round % 2 == 0);
+            let want: Vec<bool> = (0..LANES)
+                .map(|i| p.active[i] && penumbra::trace::transmittance(&scene, &p.ray(i), p.t_max[i]) == 0.0)
+                .collect();
+            for level in [SimdLevel::Baseline, SimdLevel::Auto] {
+                let got = level.run(
+                    #[inline(always)]
+                    || occluded(&scene, &p, &mut TraversalCost::default()),
+                );
+                for i in 0..LANES {
+                    assert_eq!(
+                        got[i] && p.active[i],
+                        want[i],
+                        "seed {seed}, round {round}, lane {i} ({level})"
+                    );
+                }
+            }
+            lanes += p.active.iter().filter(|&&a| a).count();
+            blocked += want.iter().filter(|&&b| b).count();
+        }
+    }
+    assert!(blocked * 5 > lanes && blocked * 5 < lanes * 4, "{blocked} blocked of {lanes}");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
+
+    /// The lane-wise sphere kernel equals [`sphere::intersect`] bit for bit on every lane, at
+    /// every SIMD level: rays through, tangent to (the cold f64 path) and missing spheres from
+    /// near and far, unit and non-unit directions, origins inside, finite ranges.
+    #[test]
+    fn the_sphere_lane_kernel_equals_the_scalar_kernel_bit_for_bit(
+        centre in common::strategies::point(50.0),
+        radius in prop_oneof![1e-3f32..0.1, 0.1f32..10.0],
+        from in common::strategies::point(1.0),
+        distance in prop_oneof![0.0f32..3.0, 10.0f32..1e5],
+        aims in proptest::collection::vec((common::strategies::point(1.5), 0.1f32..4.0, any::<bool>()), 8),
+    ) {
+        use penumbra::geom::sphere;
+        let mut p = RayPacket::<8>::default();
+        let origin = centre + from.normalize_or(Vec3::X) * radius * (1.0 + distance);
+        for (i, (aim, length, tangent)) in aims.iter().enumerate() {
+            let target = if *tangent {
+                // A point on the sphere's silhouette as seen from the origin: grazing rays.
+                let to = (centre - origin).normalize_or(Vec3::X);
+                let side = to.any_orthonormal_vector();
+                centre + side * radius + to * 0.0
+            } else {
+                centre + *aim * radius
+            };
+            let dir = (target - origin).normalize_or(Vec3::Y) * if i % 2 == 0 { 1.0 } else { *length };
+            let t_min = if i == 5 { 0.25 } else { 0.0 };
+            let t_max = if i == 6 { 1.5 } else { f32::INFINITY };
+            p.set(i, &Ray::new(origin, dir), t_min, t_max);
+        }
+        let live = [true; 8];
+        let want: Vec<Option<u32>> = (0..8)
+            .map(|i| sphere::intersect(centre, radius, &p.ray(i), p.t_min[i], p.t_max[i]).map(f32::to_bits))
+            .collect();
+        for level in SimdLevel::ALL {
+            let got = level.run(#[inline(always)] || {
+                let mut bound = p.t_max;
+                let mut got = [None; 8];
+                sphere::intersect_lanes(centre, radius, &p, &live, &mut bound, |i, t| got[i] = Some(t.to_bits()));
+                got
+            });
+            prop_assert_eq!(got.to_vec(), want.clone(), "at {}", level);
         }
     }
 }

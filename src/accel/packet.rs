@@ -92,7 +92,8 @@ impl<const N: usize> Frame<'_, N> {
             let b = min((wb - self.o[0][i]) * self.inv_k[i], bound[i]);
             let valid = walking[i] & (a <= b);
             for c in 0..2 {
-                let (pa, pb) = (self.o[c + 1][i] + a * self.d[c + 1][i], self.o[c + 1][i] + b * self.d[c + 1][i]);
+                let (pa, pb) =
+                    (self.o[c + 1][i] + a * self.d[c + 1][i], self.o[c + 1][i] + b * self.d[c + 1][i]);
                 lo[c][i] = if valid { min(pa, pb) } else { f32::INFINITY };
                 hi[c][i] = if valid { max(pa, pb) } else { f32::NEG_INFINITY };
             }

@@ -196,6 +196,66 @@ pub fn overlaps_box(centre: Vec3, radius: f32, cell: &Aabb) -> bool {
     (nearest - centre).length_squared() <= radius * radius
 }
 
+/// [`intersect`] for the `live` lanes of a packet, each within `(t_min, bound)`: a lane it hits
+/// gets `record(lane, t)` and its bound moves to `t`. Bit for bit [`intersect`] on every lane:
+/// the same operations in the same order, lane-wise; a lane near the tangent (the cold path)
+/// is handed to [`intersect`] itself.
+#[inline(always)]
+pub fn intersect_lanes<const N: usize>(
+    centre: Vec3,
+    radius: f32,
+    packet: &crate::math::RayPacket<N>,
+    live: &[bool; N],
+    bound: &mut [f32; N],
+    mut record: impl FnMut(usize, f32),
+) {
+    let r2 = radius * radius;
+    let mut found = [f32::NAN; N];
+    let mut cold = [false; N];
+    for i in 0..N {
+        let (dx, dy, dz) = (packet.dir[0][i], packet.dir[1][i], packet.dir[2][i]);
+        let (fx, fy, fz) =
+            (packet.origin[0][i] - centre.x, packet.origin[1][i] - centre.y, packet.origin[2][i] - centre.z);
+        let a = dx * dx + dy * dy + dz * dz;
+        let b = -(fx * dx + fy * dy + fz * dz);
+        let unit_a = (a - 1.0).abs() <= 4.0 * f32::EPSILON;
+        let s = if unit_a { b } else { b / a };
+        let (lx, ly, lz) = (fx + s * dx, fy + s * dy, fz + s * dz);
+        let ll = lx * lx + ly * ly + lz * lz;
+        let disc = r2 - ll;
+        cold[i] = live[i] & (disc.abs() <= ll * COARSE_LL + s * b * COARSE_SB + r2 * COARSE_R2);
+        // `roots`, lane-wise.
+        let ff = fx * fx + fy * fy + fz * fz;
+        let q = b + (a * disc).sqrt().copysign(b);
+        let t0 = (ff - r2) / q;
+        let t1 = if unit_a { q } else { q / a };
+        let (near, far) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
+        let c_error = gamma(8) * (ff + r2);
+        let qa = q.abs();
+        let (lo, hi) = (packet.t_min[i], bound[i]);
+        let inside = |t: f32| t > lo && t < hi && (t - lo - gamma(8) * t.abs()) * qa > c_error;
+        let t = if inside(near) {
+            near
+        } else if inside(far) {
+            far
+        } else {
+            f32::NAN
+        };
+        found[i] = if live[i] & !cold[i] & !(disc < 0.0) { t } else { f32::NAN };
+    }
+    for i in 0..N {
+        if cold[i] {
+            if let Some(t) = intersect(centre, radius, &packet.ray(i), packet.t_min[i], bound[i]) {
+                bound[i] = t;
+                record(i, t);
+            }
+        } else if !found[i].is_nan() {
+            bound[i] = found[i];
+            record(i, found[i]);
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -192,9 +192,34 @@ impl PrimitiveStore for AosStore {
             AosShape::Triangles { first, count } => {
                 packet::triangle_range_hits(&self.triangles, id, *first, *count, packet, live, hits, cost)
             }
-            AosShape::Sphere { .. } | AosShape::Cuboid { .. } => {
-                packet::lane_by_lane(self, id, packet, live, hits, cost)
+            AosShape::Sphere { centre, radius } => {
+                packet::sphere_hits(*centre, *radius, id, packet, live, hits, cost)
             }
+            AosShape::Cuboid { .. } => packet::lane_by_lane(self, id, packet, live, hits, cost),
+        }
+    }
+
+    #[inline(always)]
+    fn occludes_bounded_packet<const N: usize>(
+        &self,
+        id: u32,
+        packet: &RayPacket<N>,
+        live: &[bool; N],
+        occluded: &mut [bool; N],
+        cost: &mut TraversalCost,
+    ) {
+        match &self.objects[id as usize].shape {
+            AosShape::Instance { to_object, mesh } => {
+                let local = packet.mapped(to_object, live);
+                packet::mesh_occluded(&self.meshes[*mesh as usize], &local, live, occluded, cost)
+            }
+            AosShape::Triangles { first, count } => {
+                packet::triangle_range_occluded(&self.triangles, *first, *count, packet, live, occluded, cost)
+            }
+            AosShape::Sphere { centre, radius } => {
+                packet::sphere_occluded(*centre, *radius, packet, live, occluded, cost)
+            }
+            AosShape::Cuboid { .. } => packet::occluded_lane_by_lane(self, id, packet, live, occluded, cost),
         }
     }
 

@@ -191,6 +191,20 @@ pub trait PrimitiveStore: Send + Sync + Sized + std::fmt::Debug + 'static {
     ) {
         packet::lane_by_lane(self, id, packet, live, hits, cost)
     }
+    /// The packet form of [`PrimitiveStore::occludes_bounded`]: sets `occluded[i]` for each
+    /// `live` lane that bounded object `id` blocks within `(t_min, t_max)`. Lane for lane the
+    /// same answer as the single-ray method (this default calls it per lane).
+    #[inline(always)]
+    fn occludes_bounded_packet<const N: usize>(
+        &self,
+        id: u32,
+        packet: &RayPacket<N>,
+        live: &[bool; N],
+        occluded: &mut [bool; N],
+        cost: &mut TraversalCost,
+    ) {
+        packet::occluded_lane_by_lane(self, id, packet, live, occluded, cost)
+    }
     /// Nearest hit with bounded object `id` testing every triangle of a mesh (no mesh grid):
     /// the reference the two-level grid is checked against.
     fn intersect_bounded_brute(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit>;

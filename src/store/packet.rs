@@ -159,3 +159,96 @@ pub fn triangle_range_hits<const N: usize, L: TriangleLayout>(
         });
     }
 }
+
+/// Marks the `live` lanes that mesh `mesh` blocks anywhere in `(t_min, t_max)` (in object
+/// space) in `occluded`: the packet walks the mesh grid together, each lane dropping out at its
+/// first hit; lanes that cannot walk together walk alone ([`super::mesh::occluded`]).
+#[inline(always)]
+pub fn mesh_occluded<const N: usize, L: TriangleLayout>(
+    mesh: &MeshEntry<L>,
+    packet: &RayPacket<N>,
+    live: &[bool; N],
+    occluded: &mut [bool; N],
+    cost: &mut TraversalCost,
+) {
+    // A blocked lane's bound drops to −∞: the walk lets it go and no kernel can hit it again.
+    let mut bound = packet.t_max;
+    let mut found = [false; N];
+    mesh_hits(mesh, packet, live, &mut bound, cost, |i, _, _| found[i] = true);
+    // `mesh_hits` walks with nearest-hit bounds; for any-hit, a hit anywhere in range is enough,
+    // and every lane with one has been given one (its nearest, which is in range).
+    for i in 0..N {
+        occluded[i] |= found[i];
+    }
+}
+
+/// Marks the `live` lanes that the triangles `first..first + count` block in `occluded`.
+#[inline(always)]
+pub fn triangle_range_occluded<const N: usize, L: TriangleLayout>(
+    triangles: &L,
+    first: u32,
+    count: u32,
+    packet: &RayPacket<N>,
+    live: &[bool; N],
+    occluded: &mut [bool; N],
+    cost: &mut TraversalCost,
+) {
+    cost.tests += count * live.iter().filter(|&&l| l).count() as u32;
+    let w = WatertightPacket::new(packet, live);
+    let mut bound = packet.t_max;
+    for k in first..first + count {
+        triangle_lanes(triangles.vertices(k), &w, live, &packet.t_min, &mut bound, |i, _| occluded[i] = true);
+    }
+}
+
+/// Marks in `occluded` the `live` lanes that bounded object `id` blocks, one lane at a time
+/// through the store's single-ray test (the default of
+/// [`super::PrimitiveStore::occludes_bounded_packet`]).
+#[inline(always)]
+pub fn occluded_lane_by_lane<const N: usize, S: super::PrimitiveStore>(
+    store: &S,
+    id: u32,
+    packet: &RayPacket<N>,
+    live: &[bool; N],
+    occluded: &mut [bool; N],
+    cost: &mut TraversalCost,
+) {
+    for i in 0..N {
+        if live[i] && !occluded[i] {
+            occluded[i] = store.occludes_bounded(id, &packet.ray(i), packet.t_min[i], packet.t_max[i], cost);
+        }
+    }
+}
+
+/// Each `live` lane's nearest hit with sphere `object`, all lanes in one kernel.
+#[inline(always)]
+pub fn sphere_hits<const N: usize>(
+    centre: crate::math::Vec3,
+    radius: f32,
+    object: u32,
+    packet: &RayPacket<N>,
+    live: &[bool; N],
+    hits: &mut PacketHits<N>,
+    cost: &mut TraversalCost,
+) {
+    cost.tests += live.iter().filter(|&&l| l).count() as u32;
+    let found = &mut hits.hit;
+    crate::geom::sphere::intersect_lanes(centre, radius, packet, live, &mut hits.t, |i, t| {
+        found[i] = Some(Hit::new(t, object, 0))
+    });
+}
+
+/// Marks the `live` lanes that a sphere blocks in `occluded`, all lanes in one kernel.
+#[inline(always)]
+pub fn sphere_occluded<const N: usize>(
+    centre: crate::math::Vec3,
+    radius: f32,
+    packet: &RayPacket<N>,
+    live: &[bool; N],
+    occluded: &mut [bool; N],
+    cost: &mut TraversalCost,
+) {
+    cost.tests += live.iter().filter(|&&l| l).count() as u32;
+    let mut bound = packet.t_max;
+    crate::geom::sphere::intersect_lanes(centre, radius, packet, live, &mut bound, |i, _| occluded[i] = true);
+}

@@ -298,7 +298,46 @@ impl PrimitiveStore for SoaStore {
                 hits,
                 cost,
             ),
-            Kind::Sphere | Kind::Cuboid => packet::lane_by_lane(self, id, packet, live, hits, cost),
+            Kind::Sphere => {
+                let i = first as usize;
+                packet::sphere_hits(self.centre.get(i), self.radius[i], id, packet, live, hits, cost)
+            }
+            Kind::Cuboid => packet::lane_by_lane(self, id, packet, live, hits, cost),
+        }
+    }
+
+    #[inline(always)]
+    fn occludes_bounded_packet<const N: usize>(
+        &self,
+        id: u32,
+        packet: &RayPacket<N>,
+        live: &[bool; N],
+        occluded: &mut [bool; N],
+        cost: &mut TraversalCost,
+    ) {
+        let o = id as usize;
+        let first = self.first[o];
+        match self.kind[o] {
+            Kind::Instance => {
+                let i = first as usize;
+                let mesh = &self.meshes[self.instance_mesh[i] as usize];
+                let local = packet.mapped(&self.instance_to_object.get(i), live);
+                packet::mesh_occluded(mesh, &local, live, occluded, cost)
+            }
+            Kind::Triangles => packet::triangle_range_occluded(
+                &self.triangles,
+                first,
+                self.count[o],
+                packet,
+                live,
+                occluded,
+                cost,
+            ),
+            Kind::Sphere => {
+                let i = first as usize;
+                packet::sphere_occluded(self.centre.get(i), self.radius[i], packet, live, occluded, cost)
+            }
+            Kind::Cuboid => packet::occluded_lane_by_lane(self, id, packet, live, occluded, cost),
         }
     }
 

@@ -269,6 +269,8 @@ pub struct PathContext<'a> {
     pub budget: RayBudget,
     /// Ray counters to add to.
     pub rays: &'a mut RayCounts,
+    /// The SIMD level shadow packets are traced at, or `None` for single rays (`--simd scalar`).
+    pub packets: Option<crate::simd::SimdLevel>,
 }
 
 /// First dimension of a path's stream; the ones below belong to the pixel's own patterns
@@ -306,6 +308,7 @@ impl<'a> PathContext<'a> {
             camera: CameraSample { spp: camera.spp.max(1), ..camera },
             budget: RayBudget::new(settings.max_secondary_rays),
             rays,
+            packets: settings.simd.packets().then(|| settings.simd.resolve()),
         }
     }
 

@@ -83,3 +83,75 @@ pub fn closest_hits<const N: usize, S: PrimitiveStore>(
     }
     hits
 }
+
+/// Which live lanes of a shadow packet are blocked within `(t_min, t_max)`, in a scene without
+/// transmission (where a shadow ray's transmittance is 1 or 0): planes lane by lane, then the
+/// top-level grid by coherent traversal, a lane dropping out at its first blocker (or lane by
+/// lane where the packet is not coherent). Equal, lane for lane, to
+/// [`super::integrator::transmittance`] being 0. Shadow packets start at `t_min = 0`.
+#[inline(always)]
+pub fn occluded<const N: usize, S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    packet: &RayPacket<N>,
+    cost: &mut TraversalCost,
+) -> [bool; N] {
+    debug_assert!(!scene.effects.transmission, "shadow packets are for opaque scenes");
+    struct Blockers<'a, const N: usize, S: PrimitiveStore> {
+        store: &'a S,
+        packet: &'a RayPacket<N>,
+        bound: [f32; N],
+        occluded: [bool; N],
+        cost: TraversalCost,
+    }
+    impl<const N: usize, S: PrimitiveStore> PacketSink<N> for Blockers<'_, N, S> {
+        #[inline(always)]
+        fn bound(&self) -> &[f32; N] {
+            &self.bound
+        }
+        #[inline(always)]
+        fn visit(&mut self, id: u32, live: &[bool; N]) {
+            let mut open = [false; N];
+            for i in 0..N {
+                open[i] = live[i] & !self.occluded[i];
+            }
+            self.store.occludes_bounded_packet(id, self.packet, &open, &mut self.occluded, &mut self.cost);
+            // A blocked lane's walk is over.
+            for i in 0..N {
+                if self.occluded[i] {
+                    self.bound[i] = f32::NEG_INFINITY;
+                }
+            }
+        }
+    }
+    let store = &scene.store;
+    let mut occluded = [false; N];
+    for p in 0..store.unbounded_count() {
+        for i in 0..N {
+            if packet.active[i] && !occluded[i] {
+                cost.tests += 1;
+                occluded[i] = store.intersect_unbounded(p, &packet.ray(i), 0.0, packet.t_max[i]).is_some();
+            }
+        }
+    }
+    let mut open = [false; N];
+    for i in 0..N {
+        open[i] = packet.active[i] & !occluded[i];
+    }
+    let bound = std::array::from_fn(|i| if occluded[i] { f32::NEG_INFINITY } else { packet.t_max[i] });
+    let mut sink = Blockers { store, packet, bound, occluded, cost: TraversalCost::default() };
+    let mut cells = 0;
+    let walked = coherent_walk(&scene.grid, packet, &open, &mut sink, &mut cells);
+    let Blockers { mut occluded, cost: tested, .. } = sink;
+    cost.cells += cells + tested.cells;
+    cost.tests += tested.tests;
+    if walked.is_none() {
+        for i in 0..N {
+            if open[i] {
+                let pass =
+                    super::integrator::transmittance_costed(scene, &packet.ray(i), packet.t_max[i], cost);
+                occluded[i] = pass == 0.0;
+            }
+        }
+    }
+    occluded
+}

@@ -2,11 +2,13 @@
 //! sample of an area light) adds `(kd·max(N·L, 0) + ks·max(R·V, 0)^shininess) × radiance ×
 //! transmittance` of its shadow ray.
 
-use super::integrator::{transmittance_costed, PathContext};
+use super::integrator::{transmittance_costed, EffectSamples, PathContext};
 use super::light::Light;
 use super::material::Material;
+use super::packet::{occluded, LANES};
 use super::scene::TraceScene;
-use crate::math::{reflect, Ray, Vec3, SHADOW_EPSILON};
+use crate::math::{reflect, Ray, RayPacket, Vec3, SHADOW_EPSILON};
+use crate::simd::SimdLevel;
 use crate::store::{PrimitiveStore, TraversalCost};
 
 /// A shading point: where it is, the normal on the side the ray arrived from, and the origin of
@@ -80,6 +82,9 @@ fn area_light<S: PrimitiveStore>(
     let samples = ctx.effect_samples(light.samples());
     // Each sample stands for `1 / count` of the light as this camera sample sees it.
     let share = 1.0 / samples.taken() as f32;
+    if let (Some(level), false) = (ctx.packets, scene.effects.transmission) {
+        return area_light_packets(scene, light, m, s, view, samples, share, level, ctx);
+    }
     let mut colour = Vec3::ZERO;
     for (stratum, u) in samples {
         let (to_light, dist, radiance) = light.sample(s.point, stratum, u);
@@ -91,6 +96,59 @@ fn area_light<S: PrimitiveStore>(
         let pass = shadow(scene, &Ray::new(s.above, to_light), dist * (1.0 - SHADOW_EPSILON), ctx);
         if pass > 0.0 {
             colour += radiance * (pass * share) * phong(m, s.normal, view, to_light, n_dot_l);
+        }
+    }
+    colour
+}
+
+/// [`area_light`] with the shadow rays traced in packets of [`LANES`] (they share an origin):
+/// the same samples, rays and sums in the same order, so the same bits.
+#[allow(clippy::too_many_arguments)]
+fn area_light_packets<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    light: &Light,
+    m: &Material,
+    s: &Surface,
+    view: Vec3,
+    samples: EffectSamples,
+    share: f32,
+    level: SimdLevel,
+    ctx: &mut PathContext<'_>,
+) -> Vec3 {
+    let mut colour = Vec3::ZERO;
+    let mut samples = samples.peekable();
+    while samples.peek().is_some() {
+        let mut packet = RayPacket::<LANES>::default();
+        let mut lit = [(Vec3::ZERO, Vec3::ZERO, 0.0f32); LANES];
+        let mut lanes = 0;
+        for (stratum, u) in samples.by_ref() {
+            let (to_light, dist, radiance) = light.sample(s.point, stratum, u);
+            let n_dot_l = s.normal.dot(to_light);
+            if n_dot_l <= 0.0 || dist <= s.eps {
+                continue;
+            }
+            packet.set(lanes, &Ray::new(s.above, to_light), 0.0, dist * (1.0 - SHADOW_EPSILON));
+            lit[lanes] = (to_light, radiance, n_dot_l);
+            lanes += 1;
+            if lanes == LANES {
+                break;
+            }
+        }
+        if lanes == 0 {
+            break;
+        }
+        ctx.rays.area_shadow += lanes as u64;
+        let mut cost = TraversalCost::default();
+        let blocked = level.run(
+            #[inline(always)]
+            || occluded(scene, &packet, &mut cost),
+        );
+        let each = cost.per_ray(lanes as u32);
+        for (lane, &(to_light, radiance, n_dot_l)) in lit.iter().enumerate().take(lanes) {
+            ctx.rays.traversal.record(each);
+            if !blocked[lane] {
+                colour += radiance * (1.0 * share) * phong(m, s.normal, view, to_light, n_dot_l);
+            }
         }
     }
     colour

@@ -404,7 +404,10 @@ fn packet_tile<S: PrimitiveStore>(
                     }
                 }
                 let mut cost = TraversalCost::default();
-                let hits = level.run(#[inline(always)] || closest_hits(scene, &packet, &mut cost));
+                let hits = level.run(
+                    #[inline(always)]
+                    || closest_hits(scene, &packet, &mut cost),
+                );
                 let lane_cost = cost.per_ray(cameras.iter().flatten().count() as u32);
                 for (lane, camera) in cameras.iter().enumerate() {
                     if let Some(camera) = *camera {
