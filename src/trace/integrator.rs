@@ -271,7 +271,17 @@ pub struct PathContext<'a> {
     pub rays: &'a mut RayCounts,
     /// The SIMD level shadow packets are traced at, or `None` for single rays (`--simd scalar`).
     pub packets: Option<crate::simd::SimdLevel>,
+    /// Transmittance of the shadow ray towards each of the first [`HINTED_LIGHTS`] lights from
+    /// the next shading point, already traced in a packet with its neighbours' (camera hits and
+    /// point or directional lights); taken by the first [`super::phong::direct_light`].
+    pub shadow_hint: Option<ShadowHint>,
 }
+
+/// Lights whose shadow rays from camera hits are traced in packets.
+pub const HINTED_LIGHTS: usize = 4;
+
+/// Per light (by index), the transmittance of a shading point's shadow ray, where known.
+pub type ShadowHint = [Option<f32>; HINTED_LIGHTS];
 
 /// First dimension of a path's stream; the ones below belong to the pixel's own patterns
 /// (sub-pixel position, lens).
@@ -309,6 +319,7 @@ impl<'a> PathContext<'a> {
             budget: RayBudget::new(settings.max_secondary_rays),
             rays,
             packets: settings.simd.packets().then(|| settings.simd.resolve()),
+            shadow_hint: None,
         }
     }
 

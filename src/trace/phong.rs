@@ -51,7 +51,8 @@ pub fn direct_light<S: PrimitiveStore>(
     ctx: &mut PathContext<'_>,
 ) -> Vec3 {
     let mut colour = Vec3::ZERO;
-    for light in &scene.lights {
+    let hint = ctx.shadow_hint.take();
+    for (j, light) in scene.lights.iter().enumerate() {
         if light.is_area() {
             colour += area_light(scene, light, m, s, view, ctx);
             continue;
@@ -62,7 +63,11 @@ pub fn direct_light<S: PrimitiveStore>(
             continue;
         }
         ctx.rays.shadow += 1;
-        let pass = shadow(scene, &Ray::new(s.above, to_light), dist * (1.0 - SHADOW_EPSILON), ctx);
+        // Traced already in a packet (its cost recorded there), or now.
+        let pass = match hint.and_then(|h| h.get(j).copied().flatten()) {
+            Some(pass) => pass,
+            None => shadow(scene, &Ray::new(s.above, to_light), dist * (1.0 - SHADOW_EPSILON), ctx),
+        };
         if pass > 0.0 {
             colour += radiance * pass * phong(m, s.normal, view, to_light, n_dot_l);
         }

@@ -21,12 +21,14 @@ use rayon::prelude::*;
 
 use super::aov::first_hit_aovs;
 use super::finite::{DropTally, SampleMean};
-use super::integrator::{radiance, radiance_at, CameraSample, PathContext, DEFAULT_MAX_SECONDARY_RAYS};
-use super::packet::{closest_hits, LANES};
+use super::integrator::{
+    radiance, radiance_at, CameraSample, PathContext, ShadowHint, DEFAULT_MAX_SECONDARY_RAYS, HINTED_LIGHTS,
+};
+use super::packet::{closest_hits, occluded, LANES};
 use super::scene::TraceScene;
 use super::stats::{AdaptiveCounts, BudgetStats, GridStats, MeshGridStats, RayCounts, RenderStats};
 use crate::film::{AovSet, Aovs, Film};
-use crate::math::{Ray, RayPacket, Vec2, Vec3};
+use crate::math::{Ray, RayPacket, Vec2, Vec3, SHADOW_EPSILON};
 use crate::sample::adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint};
 use crate::sample::pattern::{disk_point, square_point};
 use crate::sample::rng::{hash, permute, uniform2, SampleKey};
@@ -409,9 +411,14 @@ fn packet_tile<S: PrimitiveStore>(
                     || closest_hits(scene, &packet, &mut cost),
                 );
                 let lane_cost = cost.per_ray(cameras.iter().flatten().count() as u32);
+                let hints = match scene.effects.transmission {
+                    false => point_light_shadows(scene, &packet, &hits.hit, level, rays),
+                    true => [None; LANES],
+                };
                 for (lane, camera) in cameras.iter().enumerate() {
                     if let Some(camera) = *camera {
                         let mut ctx = PathContext::new(settings, camera, rays);
+                        ctx.shadow_hint = hints[lane];
                         let ray = packet.ray(lane);
                         means[lane].add(radiance_at(
                             scene,
@@ -433,6 +440,63 @@ fn packet_tile<S: PrimitiveStore>(
             }
         }
     }
+}
+
+/// The shadow rays from a packet's camera hits towards each of the first [`HINTED_LIGHTS`]
+/// point or directional lights, traced as one packet per light (a common end point, or a
+/// common direction): per lane, the transmittance [`super::phong::direct_light`] would find,
+/// computed from the same surface point, normal and offset origin. Only for opaque scenes.
+fn point_light_shadows<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    packet: &RayPacket<LANES>,
+    hits: &[Option<crate::store::Hit>; LANES],
+    level: SimdLevel,
+    rays: &mut RayCounts,
+) -> [Option<ShadowHint>; LANES] {
+    let mut hints = [None; LANES];
+    let lights = scene.lights.iter().enumerate().take(HINTED_LIGHTS).filter(|(_, l)| !l.is_area());
+    if scene.lights.iter().take(HINTED_LIGHTS).all(|l| l.is_area()) {
+        return hints;
+    }
+    // What `radiance_at` computes for each lane's shading point: the point, the shading normal
+    // on the arrival side, and the offset origin of rays leaving on that side.
+    let surfaces: [Option<(Vec3, Vec3, Vec3)>; LANES] = std::array::from_fn(|lane| {
+        let hit = hits[lane]?;
+        let ray = packet.ray(lane);
+        let sp = scene.store.surface(&hit, &ray);
+        let (_, n, ns) = super::integrator::facing_normals(&sp, ray.dir);
+        Some((sp.point, ns, sp.spawn(n)))
+    });
+    for (j, light) in lights {
+        let mut shadow = RayPacket::<LANES>::default();
+        let mut lanes = 0;
+        for (lane, surface) in surfaces.iter().enumerate() {
+            let Some((point, ns, above)) = *surface else { continue };
+            let (to_light, dist, _) = light.towards(point);
+            if ns.dot(to_light) <= 0.0 {
+                continue;
+            }
+            shadow.set(lane, &Ray::new(above, to_light), 0.0, dist * (1.0 - SHADOW_EPSILON));
+            lanes += 1;
+        }
+        if lanes == 0 {
+            continue;
+        }
+        let mut cost = TraversalCost::default();
+        let blocked = level.run(
+            #[inline(always)]
+            || occluded(scene, &shadow, &mut cost),
+        );
+        let each = cost.per_ray(lanes);
+        for lane in 0..LANES {
+            if shadow.active[lane] {
+                rays.traversal.record(each);
+                let hint = hints[lane].get_or_insert([None; HINTED_LIGHTS]);
+                hint[j] = Some(if blocked[lane] { 0.0 } else { 1.0 });
+            }
+        }
+    }
+    hints
 }
 
 /// Where in the pixel (in pixel units from its top-left corner) sample `i` of `n` lands.
