@@ -1,12 +1,16 @@
-//! Question: what does structure-of-arrays buy over array-of-structures, on the identical
-//! tracer code path (the tracer is generic over the store)?
+//! Question: what do ray packets over structure-of-arrays buy over single rays, and what does
+//! the layout alone buy (structure-of-arrays against array-of-structures on the identical
+//! single-ray code path: the tracer is generic over the store)?
 //!
 //! Scenes: ANCHORS.md's "many" (100,000 spheres of radius 0.02–0.06 in an 8×8×8 box over a
 //! ground plane), and its "mesh" scenes with the full Stanford bunny (69,451 triangles) and
 //! dragon (871,414) from `../shared/models/` (skipped with a note when absent). Rays: one
 //! camera ray per pixel of a 640×480 image, and one shadow ray per hit towards the point light
-//! (ANCHORS' 0.31 M + ~0.30 M), traced on both cores. Groups `layout_primary` and
-//! `layout_shadow`, ids `soa/SCENE` and `aos/SCENE`; then a table of medians with the ratio.
+//! (ANCHORS' 0.31 M + ~0.30 M), traced on both cores: as SoA packets at the best SIMD level
+//! this CPU has (camera rays in 4×4 pixel blocks, shadow rays 16 consecutive hits towards the
+//! light), and as single rays through the SoA and AoS stores. Groups `layout_primary` and
+//! `layout_shadow`, ids `packets/SCENE`, `soa/SCENE` and `aos/SCENE`; then a table of medians
+//! with the ratios against AoS single rays.
 //!
 //! Run: `cargo bench --bench layout`.
 
@@ -16,7 +20,9 @@ mod harness;
 
 use criterion::{BenchmarkId, Criterion, Throughput};
 use glam::{DAffine3, DVec3};
-use harness::rays::{median, mrays, ray_set, trace_primary, trace_primary_packets, trace_shadow, RaySet};
+use harness::rays::{
+    median, mrays, ray_set, trace_primary, trace_primary_packets, trace_shadow, trace_shadow_packets, RaySet,
+};
 use penumbra::camera::Camera;
 use penumbra::geom::Shape;
 use penumbra::math::Vec3;
@@ -92,11 +98,13 @@ fn cases() -> Vec<Case> {
 
 fn groups(c: &mut Criterion, cases: &[Case]) {
     type Kernel<S, R> = fn(&TraceScene<S>, &[R]) -> usize;
+    let level = SimdLevel::Auto.resolve();
     fn group<R>(
         c: &mut Criterion,
         name: &str,
         cases: &[Case],
         rays: impl Fn(&Case) -> &[R],
+        packets: impl Fn(&Case, &[R]) -> usize,
         soa: Kernel<SoaStore, R>,
         aos: Kernel<AosStore, R>,
     ) {
@@ -104,43 +112,63 @@ fn groups(c: &mut Criterion, cases: &[Case]) {
         for case in cases {
             let r = rays(case);
             group.throughput(Throughput::Elements(r.len() as u64));
+            group.bench_function(BenchmarkId::new("packets", case.name), |b| b.iter(|| packets(case, r)));
             group.bench_function(BenchmarkId::new("soa", case.name), |b| b.iter(|| soa(&case.soa, r)));
             group.bench_function(BenchmarkId::new("aos", case.name), |b| b.iter(|| aos(&case.aos, r)));
         }
         group.finish();
     }
-    group(c, "layout_primary", cases, |k| &k.rays.primary, trace_primary, trace_primary);
-    group(c, "layout_shadow", cases, |k| &k.rays.shadow, trace_shadow, trace_shadow);
+    let primary_packets = |k: &Case, r: &[penumbra::math::Ray]| trace_primary_packets(&k.soa, r, W, level);
+    let shadow_packets = |k: &Case, r: &[(penumbra::math::Ray, f32)]| {
+        trace_shadow_packets(&k.soa, r, &k.rays.shadow_block, level)
+    };
+    group(c, "layout_primary", cases, |k| &k.rays.primary, primary_packets, trace_primary, trace_primary);
+    group(c, "layout_shadow", cases, |k| &k.rays.shadow, shadow_packets, trace_shadow, trace_shadow);
 }
 
 fn table(cases: &[Case]) {
-    println!(
-        "\nlayout: SoA vs AoS, {W}x{H}, both cores, medians of 7 (Mrays/s; ratio = SoA speed / AoS speed)"
-    );
     let level = SimdLevel::Auto.resolve();
     println!(
-        "{:<14} {:>10} {:>10} {:>10} {:>7} {:>7}   {:>10} {:>10} {:>7}",
-        "scene", "prim pkt", "prim SoA", "prim AoS", "pkt/AoS", "SoA/AoS", "shad SoA", "shad AoS", "ratio"
+        "\nlayout: camera and point-light shadow rays, {W}x{H}, both cores, medians of 7 (Mrays/s); \
+         packets: the rays of 4x4 pixels, SoA, {level}"
+    );
+    println!(
+        "{:<13} {:>8} {:>8} {:>8} {:>8} {:>8}   {:>8} {:>8} {:>8} {:>8} {:>8}",
+        "scene",
+        "cam pkt",
+        "cam SoA",
+        "cam AoS",
+        "pkt/AoS",
+        "SoA/AoS",
+        "shd pkt",
+        "shd SoA",
+        "shd AoS",
+        "pkt/AoS",
+        "SoA/AoS"
     );
     for case in cases {
         let (p, s) = (&case.rays.primary, &case.rays.shadow);
-        // Interleave the variants so drift on a shared machine hits both alike.
+        // Interleave the variants so drift on a shared machine hits them alike.
         let pp = median(7, || trace_primary_packets(&case.soa, p, W, level));
         let ps = median(7, || trace_primary(&case.soa, p));
         let pa = median(7, || trace_primary(&case.aos, p));
+        let sp = median(7, || trace_shadow_packets(&case.soa, s, &case.rays.shadow_block, level));
         let ss = median(7, || trace_shadow(&case.soa, s));
         let sa = median(7, || trace_shadow(&case.aos, s));
+        let ratio = |a: std::time::Duration, b: std::time::Duration| a.as_secs_f64() / b.as_secs_f64();
         println!(
-            "{:<14} {:>10.2} {:>10.2} {:>10.2} {:>7.3} {:>7.3}   {:>10.2} {:>10.2} {:>7.3}",
+            "{:<13} {:>8.2} {:>8.2} {:>8.2} {:>8.3} {:>8.3}   {:>8.2} {:>8.2} {:>8.2} {:>8.3} {:>8.3}",
             case.name,
             mrays(p.len(), pp),
             mrays(p.len(), ps),
             mrays(p.len(), pa),
-            pa.as_secs_f64() / pp.as_secs_f64(),
-            pa.as_secs_f64() / ps.as_secs_f64(),
+            ratio(pa, pp),
+            ratio(pa, ps),
+            mrays(s.len(), sp),
             mrays(s.len(), ss),
             mrays(s.len(), sa),
-            sa.as_secs_f64() / ss.as_secs_f64(),
+            ratio(sa, sp),
+            ratio(sa, ss),
         );
     }
 }

@@ -78,7 +78,7 @@ def parse_args(argv):
     parser.add_argument(
         "--layout-bench",
         action="store_true",
-        help="also run `cargo bench --bench layout` for Penumbra's bare single-ray throughput",
+        help="also run `cargo bench --bench layout` for Penumbra's bare packet throughput",
     )
     parser.add_argument(
         "--no-install", action="store_true", help="fail instead of installing POV-Ray or embreex"

@@ -145,13 +145,15 @@ def run_embree(python, script, scene, models, threads, reps, output):
     return Run(whole_s=wall, trace_s=trace, rays=rays, extra=report)
 
 
-LAYOUT_ROW = re.compile(r"^(\w+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)\s*$")
+# scene, then camera rays (packets, SoA, AoS Mrays/s, two ratios), then shadow rays (the same).
+LAYOUT_ROW = re.compile(r"^(\w+)" + r"\s+([\d.]+)" * 10 + r"\s*$")
 
 
 def run_layout_bench(repo, threads):
-    """Penumbra's own single-ray throughput: `cargo bench --bench layout`'s table (criterion's
-    groups filtered out), as {scene: {"camera": Mrays/s, "shadow": Mrays/s}} for the SoA layout
-    the renderer uses by default."""
+    """Penumbra's own bare throughput: `cargo bench --bench layout`'s table (criterion's groups
+    filtered out), as {scene: {"camera": Mrays/s, "shadow": Mrays/s}} for SoA packets at the
+    best SIMD level (what the renderer uses by default), with the single-ray SoA figures beside
+    them as "camera_single" and "shadow_single"."""
     env = dict(os.environ, RAYON_NUM_THREADS=str(threads))
     _, stdout, _ = timed(
         ["cargo", "bench", "--bench", "layout", "--", "no_criterion_group_matches_this"], cwd=repo, env=env
@@ -160,7 +162,12 @@ def run_layout_bench(repo, threads):
     for line in stdout.splitlines():
         found = LAYOUT_ROW.match(line.strip())
         if found:
-            rows[found.group(1)] = {"camera": float(found.group(2)), "shadow": float(found.group(5))}
+            rows[found.group(1)] = {
+                "camera": float(found.group(2)),
+                "camera_single": float(found.group(3)),
+                "shadow": float(found.group(7)),
+                "shadow_single": float(found.group(8)),
+            }
     if not rows:
         raise RunError("cargo bench --bench layout printed no table")
     return rows

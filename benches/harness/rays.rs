@@ -14,28 +14,37 @@ use rayon::prelude::*;
 
 /// Camera rays and the shadow rays of their hits (with their lengths).
 pub struct RaySet {
-    /// One per pixel.
+    /// One per pixel, in pixel order.
     pub primary: Vec<Ray>,
-    /// One per primary hit: towards the light, with the distance to stop at.
+    /// One per primary hit: towards the light, with the distance to stop at; grouped by 4 × 4
+    /// pixel block (blocks in raster order, pixels in raster order within them), as the
+    /// renderer groups a packet of camera hits.
     pub shadow: Vec<(Ray, f32)>,
+    /// The 4 × 4 block of each shadow ray's pixel.
+    pub shadow_block: Vec<u32>,
 }
 
 /// The rays of a `w × h` image of `scene` lit from `light`.
 pub fn ray_set<S: PrimitiveStore>(scene: &TraceScene<S>, w: u32, h: u32, light: Vec3) -> RaySet {
     let primary: Vec<Ray> =
         (0..w * h).map(|p| scene.camera.ray((p % w) as f32 + 0.5, (p / w) as f32 + 0.5, w, h)).collect();
-    let shadow = primary
+    let blocks_x = w.div_ceil(4);
+    let mut order: Vec<u32> = (0..w * h).collect();
+    order.sort_by_key(|&p| ((p / w / 4) * blocks_x + p % w / 4, p));
+    let (shadow, shadow_block) = order
         .iter()
-        .filter_map(|ray| {
+        .filter_map(|&p| {
+            let ray = &primary[p as usize];
             let hit = closest_hit(scene, ray, 0.0, f32::INFINITY)?;
             let sp = scene.store.surface(&hit, ray);
             let n = if sp.normal.dot(ray.dir) < 0.0 { sp.normal } else { -sp.normal };
             let to = light - sp.point;
             let dist = to.length();
-            Some((Ray::new(sp.spawn(n), to / dist), dist * (1.0 - SHADOW_EPSILON)))
+            let block = (p / w / 4) * blocks_x + p % w / 4;
+            Some(((Ray::new(sp.spawn(n), to / dist), dist * (1.0 - SHADOW_EPSILON)), block))
         })
-        .collect();
-    RaySet { primary, shadow }
+        .unzip();
+    RaySet { primary, shadow, shadow_block }
 }
 
 /// Closest hits of every ray; returns the number of hits.
@@ -69,11 +78,57 @@ pub fn trace_primary_packets<S: PrimitiveStore>(
                             p.set(lane, black_box(&rays[(y * w + x) as usize]), 0.0, f32::INFINITY);
                         }
                     }
-                    let hits = level.run(#[inline(always)] || closest_hits(scene, &p, &mut Default::default()));
+                    let hits = level.run(
+                        #[inline(always)]
+                        || closest_hits(scene, &p, &mut Default::default()),
+                    );
                     found += hits.hit.iter().filter(|h| h.is_some()).count();
                 }
             }
             found
+        })
+        .sum()
+}
+
+/// Shadow tests of an image's point-light shadow rays (one per camera hit, as [`ray_set`]
+/// makes them), each 4 × 4 pixel block's rays traced as one packet towards the common light at
+/// SIMD `level`, as the renderer traces them; returns the number of occluded rays.
+pub fn trace_shadow_packets<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    rays: &[(Ray, f32)],
+    blocks: &[u32],
+    level: penumbra::simd::SimdLevel,
+) -> usize {
+    use penumbra::math::RayPacket;
+    use penumbra::trace::packet::{occluded, LANES};
+    let groups: Vec<&[(Ray, f32)]> = {
+        let mut groups = Vec::new();
+        let mut start = 0;
+        for i in 1..=rays.len() {
+            if i == rays.len() || blocks[i] != blocks[start] {
+                groups.push(&rays[start..i]);
+                start = i;
+            }
+        }
+        groups
+    };
+    groups
+        .par_chunks(16)
+        .map(|chunk| {
+            let mut blocked = 0;
+            for group in chunk {
+                debug_assert!(group.len() <= LANES);
+                let mut p = RayPacket::<LANES>::default();
+                for (lane, (ray, t_max)) in group.iter().enumerate() {
+                    p.set(lane, black_box(ray), 0.0, *t_max);
+                }
+                let hit = level.run(
+                    #[inline(always)]
+                    || occluded(scene, &p, &mut Default::default()),
+                );
+                blocked += hit.iter().filter(|&&b| b).count();
+            }
+            blocked
         })
         .sum()
 }

@@ -28,6 +28,10 @@ const MARGIN_CELLS: f32 = 1.0 / 1024.0;
 /// Relative rounding of a lane's coordinate `o + t·d` (a few ulps of its magnitude).
 const MARGIN_RELATIVE: f32 = 8.0 * f32::EPSILON;
 
+/// Most cells a slice's rectangle may hold per walking lane before the packet gives up and its
+/// lanes walk alone (a single ray crosses one to three cells per slice).
+const CELLS_PER_LANE: i64 = 3;
+
 /// Size of the direct-mapped mailbox that keeps a walk from testing an object twice.
 const MAILBOX: usize = 64;
 
@@ -137,9 +141,11 @@ impl<const N: usize> Frame<'_, N> {
 /// cell of a slice's rectangle is at least `m` cells from any object, the next `m − 1` slices
 /// are empty wherever their own rectangle stays within `m − 1` cells of it.
 ///
-/// Returns `None`, having visited nothing, when the live lanes disagree on the sign of the
-/// dominant axis (or move along it not at all): the caller walks them one by one instead.
-/// `cells` counts the cells visited.
+/// Returns `None` when the packet is not coherent enough to walk together: when the live lanes
+/// disagree on the sign of the dominant axis (or move along it not at all), or when a slice's
+/// rectangle holds more than [`CELLS_PER_LANE`] cells per walking lane (rays spreading apart, or
+/// crossing the grid at a shallow angle to the slices). What the sink has found so far stands;
+/// the caller finishes the lanes one by one. `cells` counts the cells visited.
 #[inline(always)]
 pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
     grid: &UniformGrid,
@@ -224,6 +230,10 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
         let (w_near, w_far) = bounds(s);
         let mut jump = 0;
         if let Some(r) = frame.rect(w_near, w_far, &walking, sink.bound()) {
+            let lanes = walking.iter().filter(|&&w| w).count() as i64;
+            if (r.u[1] - r.u[0] + 1) * (r.v[1] - r.v[0] + 1) > CELLS_PER_LANE * lanes {
+                return None;
+            }
             let mut clearance = u8::MAX;
             for cv in r.v[0]..=r.v[1] {
                 for cu in r.u[0]..=r.u[1] {

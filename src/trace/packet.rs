@@ -146,7 +146,7 @@ pub fn occluded<const N: usize, S: PrimitiveStore>(
     cost.tests += tested.tests;
     if walked.is_none() {
         for i in 0..N {
-            if open[i] {
+            if open[i] && !occluded[i] {
                 let pass =
                     super::integrator::transmittance_costed(scene, &packet.ray(i), packet.t_max[i], cost);
                 occluded[i] = pass == 0.0;
