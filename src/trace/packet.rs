@@ -137,6 +137,18 @@ pub fn occluded<const N: usize, S: PrimitiveStore>(
     for i in 0..N {
         open[i] = packet.active[i] & !occluded[i];
     }
+    // Origins scattered over more than two cells make a frustum that sweeps many cells per ray
+    // (shadow rays from hits at different depths): such lanes walk alone from the start.
+    if origin_spread(packet, &open) > 2.0 * scene.grid.cell_size.max_element() {
+        for i in 0..N {
+            if open[i] {
+                let pass =
+                    super::integrator::transmittance_costed(scene, &packet.ray(i), packet.t_max[i], cost);
+                occluded[i] = pass == 0.0;
+            }
+        }
+        return occluded;
+    }
     let bound = std::array::from_fn(|i| if occluded[i] { f32::NEG_INFINITY } else { packet.t_max[i] });
     let mut sink = Blockers { store, packet, bound, occluded, cost: TraversalCost::default() };
     let mut cells = 0;
@@ -154,4 +166,21 @@ pub fn occluded<const N: usize, S: PrimitiveStore>(
         }
     }
     occluded
+}
+
+/// The largest extent of the box around the `live` lanes' origins.
+#[inline(always)]
+fn origin_spread<const N: usize>(packet: &RayPacket<N>, live: &[bool; N]) -> f32 {
+    let mut spread = 0.0f32;
+    for axis in 0..3 {
+        let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
+        for i in 0..N {
+            if live[i] {
+                lo = lo.min(packet.origin[axis][i]);
+                hi = hi.max(packet.origin[axis][i]);
+            }
+        }
+        spread = spread.max(hi - lo);
+    }
+    spread
 }
