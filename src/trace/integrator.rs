@@ -10,7 +10,7 @@ use crate::math::{reflect, refract, Ray, Vec2, Vec3};
 use crate::sample::pattern::square_point;
 use crate::sample::rng::{hash, permute, uniform2, SampleKey, SampleStream};
 use crate::sample::warp::cone;
-use crate::store::{Hit, PrimitiveStore, TraversalCost};
+use crate::store::{Hit, NoTally, PrimitiveStore, Tally, TraversalCost};
 
 /// Nearest hit in `(t_min, t_max)`: planes first, then the grid's cells front to back.
 ///
@@ -26,22 +26,23 @@ pub fn closest_hit<S: PrimitiveStore>(
     t_min: f32,
     t_max: f32,
 ) -> Option<Hit> {
-    closest_hit_costed(scene, ray, t_min, t_max, &mut TraversalCost::default())
+    closest_hit_costed(scene, ray, t_min, t_max, &mut NoTally)
 }
 
-/// [`closest_hit`], adding the cells visited and primitives tested to `cost`.
+/// [`closest_hit`], adding the cells visited and primitives tested to `cost` (a
+/// [`TraversalCost`] counts them; [`closest_hit`] passes [`NoTally`]).
 #[inline]
-pub fn closest_hit_costed<S: PrimitiveStore>(
+pub fn closest_hit_costed<S: PrimitiveStore, T: Tally>(
     scene: &TraceScene<S>,
     ray: &Ray,
     t_min: f32,
     t_max: f32,
-    cost: &mut TraversalCost,
+    cost: &mut T,
 ) -> Option<Hit> {
     let mut nearest = Nearest::new(t_max);
     let store = &scene.store;
     for i in 0..store.unbounded_count() {
-        cost.tests += 1;
+        cost.tests(1);
         nearest.offer(store.intersect_unbounded(i, ray, t_min, nearest.t));
     }
     nearest.offer(grid_hit(scene, ray, t_min, nearest.t, cost));
@@ -51,12 +52,12 @@ pub fn closest_hit_costed<S: PrimitiveStore>(
 /// Nearest hit with a bounded object in `(t_min, t_max)`, walking the top-level grid (the second
 /// half of [`closest_hit_costed`], after the planes).
 #[inline]
-pub(crate) fn grid_hit<S: PrimitiveStore>(
+pub(crate) fn grid_hit<S: PrimitiveStore, T: Tally>(
     scene: &TraceScene<S>,
     ray: &Ray,
     t_min: f32,
     t_max: f32,
-    cost: &mut TraversalCost,
+    cost: &mut T,
 ) -> Option<Hit> {
     let mut nearest = Nearest::new(t_max);
     let store = &scene.store;
@@ -64,7 +65,7 @@ pub(crate) fn grid_hit<S: PrimitiveStore>(
         if span.t_enter > nearest.t {
             break;
         }
-        cost.cells += 1;
+        cost.cell();
         for &id in scene.grid.cell_prims(span.cell) {
             nearest.offer(store.intersect_bounded(id, ray, t_min, nearest.t, cost));
         }
@@ -124,15 +125,16 @@ impl Nearest {
 /// Counting a crossing in "the cell whose t-range holds it" is not enough: a crossing exactly on
 /// a wall, or rounded across one, can land in a span whose cell does not store the object.
 pub fn transmittance<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max: f32) -> f32 {
-    transmittance_costed(scene, ray, t_max, &mut TraversalCost::default())
+    transmittance_costed(scene, ray, t_max, &mut NoTally)
 }
 
-/// [`transmittance`], adding the cells visited and primitives tested to `cost`.
-pub fn transmittance_costed<S: PrimitiveStore>(
+/// [`transmittance`], adding the cells visited and primitives tested to `cost` (a
+/// [`TraversalCost`] counts them; [`transmittance`] passes [`NoTally`]).
+pub fn transmittance_costed<S: PrimitiveStore, T: Tally>(
     scene: &TraceScene<S>,
     ray: &Ray,
     t_max: f32,
-    cost: &mut TraversalCost,
+    cost: &mut T,
 ) -> f32 {
     let store = &scene.store;
     let opaque_only = !scene.effects.transmission;
@@ -143,7 +145,7 @@ pub fn transmittance_costed<S: PrimitiveStore>(
         opaque_only || pass == 0.0
     };
     for i in 0..store.unbounded_count() {
-        cost.tests += 1;
+        cost.tests(1);
         if let Some(h) = store.intersect_unbounded(i, ray, 0.0, t_max) {
             if cross(&h) {
                 return 0.0;
@@ -154,7 +156,7 @@ pub fn transmittance_costed<S: PrimitiveStore>(
     if opaque_only {
         // Any crossing anywhere in (0, t_max) blocks the light: no bookkeeping needed.
         for span in walk {
-            cost.cells += 1;
+            cost.cell();
             for &id in scene.grid.cell_prims(span.cell) {
                 if store.occludes_bounded(id, ray, 0.0, t_max, cost) {
                     return 0.0;
@@ -165,7 +167,7 @@ pub fn transmittance_costed<S: PrimitiveStore>(
     }
     let mut visited: Vec<u32> = Vec::new();
     for span in walk {
-        cost.cells += 1;
+        cost.cell();
         for &id in scene.grid.cell_prims(span.cell) {
             if visited.contains(&id) {
                 continue;
