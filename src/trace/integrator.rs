@@ -5,7 +5,7 @@ use super::phong::{direct_light, Surface};
 use super::render::{RenderSettings, Sampling};
 use super::scene::TraceScene;
 use super::stats::RayCounts;
-use crate::accel::GridWalk;
+use crate::accel::walk;
 use crate::math::{reflect, refract, Ray, Vec2, Vec3};
 use crate::sample::pattern::square_point;
 use crate::sample::rng::{hash, permute, uniform2, SampleKey, SampleStream};
@@ -14,11 +14,8 @@ use crate::store::{Hit, NoTally, PrimitiveStore, Tally, TraversalCost};
 
 /// Nearest hit in `(t_min, t_max)`: planes first, then the grid's cells front to back.
 ///
-/// The direction may have any non-zero length; `t` is in units of it.
-///
-/// A hit found in a cell is final once it lies within that cell's t-range: no later cell can
-/// hold a nearer one. A hit beyond the range (an object reaching into later cells) is kept as
-/// the bound for the rest of the walk, so it is never tested again at a larger t.
+/// The direction may have any non-zero length; `t` is in units of it. Counts nothing; see
+/// [`closest_hit_costed`] for the traversal statistics.
 #[inline]
 pub fn closest_hit<S: PrimitiveStore>(
     scene: &TraceScene<S>,
@@ -29,51 +26,41 @@ pub fn closest_hit<S: PrimitiveStore>(
     closest_hit_costed(scene, ray, t_min, t_max, &mut NoTally)
 }
 
-/// [`closest_hit`], adding the cells visited and primitives tested to `cost` (a
-/// [`TraversalCost`] counts them; [`closest_hit`] passes [`NoTally`]).
+/// [`closest_hit`], adding the cells visited and primitives tested to `tally` (a
+/// [`crate::store::TraversalCost`] counts them).
 #[inline]
 pub fn closest_hit_costed<S: PrimitiveStore, T: Tally>(
     scene: &TraceScene<S>,
     ray: &Ray,
     t_min: f32,
     t_max: f32,
-    cost: &mut T,
+    tally: &mut T,
 ) -> Option<Hit> {
     let mut nearest = Nearest::new(t_max);
     let store = &scene.store;
     for i in 0..store.unbounded_count() {
-        cost.tests(1);
+        tally.tests(1);
         nearest.offer(store.intersect_unbounded(i, ray, t_min, nearest.t));
     }
-    nearest.offer(grid_hit(scene, ray, t_min, nearest.t, cost));
+    nearest.offer(grid_hit(scene, ray, t_min, nearest.t, tally));
     nearest.hit
 }
 
-/// Nearest hit with a bounded object in `(t_min, t_max)`, walking the top-level grid (the second
-/// half of [`closest_hit_costed`], after the planes).
+/// Nearest hit with a bounded object in `(t_min, t_max)`, walking the top-level grid with the
+/// walk the mesh grids share ([`walk::nearest`]): the second half of [`closest_hit_costed`],
+/// after the planes.
 #[inline]
 pub(crate) fn grid_hit<S: PrimitiveStore, T: Tally>(
     scene: &TraceScene<S>,
     ray: &Ray,
     t_min: f32,
     t_max: f32,
-    cost: &mut T,
+    tally: &mut T,
 ) -> Option<Hit> {
-    let mut nearest = Nearest::new(t_max);
     let store = &scene.store;
-    for span in GridWalk::skipping(&scene.grid, ray, t_min, nearest.t) {
-        if span.t_enter > nearest.t {
-            break;
-        }
-        cost.cell();
-        for &id in scene.grid.cell_prims(span.cell) {
-            nearest.offer(store.intersect_bounded(id, ray, t_min, nearest.t, cost));
-        }
-        if nearest.t <= span.t_exit {
-            break;
-        }
-    }
-    nearest.hit
+    walk::nearest(&scene.grid, ray, t_min, t_max, tally, |id, bound, tally| {
+        store.intersect_bounded(id, ray, t_min, bound, tally).map(|h| (h.t, h))
+    })
 }
 
 /// Nearest hit by testing every object: the reference the grid is checked against.
@@ -118,7 +105,8 @@ impl Nearest {
 
 /// Fraction of light that passes along `ray` over `(0, t_max)` (`t` in units of the direction's
 /// length, which may be any): 0 behind an opaque object,
-/// the product of `kt` over every surface crossed otherwise.
+/// the product of `kt` over every surface crossed otherwise. Counts nothing; see
+/// [`transmittance_costed`] for the traversal statistics.
 ///
 /// Each object is handled whole the first time the walk meets it: all its crossings in
 /// `(0, t_max)` are counted then, and a per-ray list of visited ids skips it in later cells.
@@ -128,13 +116,14 @@ pub fn transmittance<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max:
     transmittance_costed(scene, ray, t_max, &mut NoTally)
 }
 
-/// [`transmittance`], adding the cells visited and primitives tested to `cost` (a
-/// [`TraversalCost`] counts them; [`transmittance`] passes [`NoTally`]).
+/// [`transmittance`], adding the cells visited and primitives tested to `tally` (a
+/// [`TraversalCost`] counts them). Both branches walk the top-level grid with the any-hit walk
+/// the mesh grids share ([`walk::any`]); with transmission, "hit" means the light is used up.
 pub fn transmittance_costed<S: PrimitiveStore, T: Tally>(
     scene: &TraceScene<S>,
     ray: &Ray,
     t_max: f32,
-    cost: &mut T,
+    tally: &mut T,
 ) -> f32 {
     let store = &scene.store;
     let opaque_only = !scene.effects.transmission;
@@ -145,45 +134,42 @@ pub fn transmittance_costed<S: PrimitiveStore, T: Tally>(
         opaque_only || pass == 0.0
     };
     for i in 0..store.unbounded_count() {
-        cost.tests(1);
+        tally.tests(1);
         if let Some(h) = store.intersect_unbounded(i, ray, 0.0, t_max) {
             if cross(&h) {
                 return 0.0;
             }
         }
     }
-    let walk = GridWalk::skipping(&scene.grid, ray, 0.0, t_max);
+    let grid = &scene.grid;
     if opaque_only {
         // Any crossing anywhere in (0, t_max) blocks the light: no bookkeeping needed.
-        for span in walk {
-            cost.cell();
-            for &id in scene.grid.cell_prims(span.cell) {
-                if store.occludes_bounded(id, ray, 0.0, t_max, cost) {
-                    return 0.0;
-                }
-            }
-        }
-        return pass;
+        let blocked = walk::any(grid, ray, 0.0, t_max, tally, |id, tally| {
+            store.occludes_bounded(id, ray, 0.0, t_max, tally)
+        });
+        return if blocked { 0.0 } else { pass };
     }
     let mut visited: Vec<u32> = Vec::new();
-    for span in walk {
-        cost.cell();
-        for &id in scene.grid.cell_prims(span.cell) {
-            if visited.contains(&id) {
-                continue;
-            }
-            visited.push(id);
-            // All of this object's crossings, nearest first.
-            let mut t_lo = 0.0;
-            while let Some(h) = store.intersect_bounded(id, ray, t_lo, t_max, cost) {
-                if cross(&h) {
-                    return 0.0;
-                }
-                t_lo = h.t;
-            }
+    let blocked = walk::any(grid, ray, 0.0, t_max, tally, |id, tally| {
+        if visited.contains(&id) {
+            return false;
         }
+        visited.push(id);
+        // All of this object's crossings, nearest first.
+        let mut t_lo = 0.0;
+        while let Some(h) = store.intersect_bounded(id, ray, t_lo, t_max, tally) {
+            if cross(&h) {
+                return true;
+            }
+            t_lo = h.t;
+        }
+        false
+    });
+    if blocked {
+        0.0
+    } else {
+        pass
     }
-    pass
 }
 
 /// Default of [`RenderSettings::max_secondary_rays`]: the secondary rays one camera sample may
