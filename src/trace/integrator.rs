@@ -15,7 +15,7 @@ use crate::store::{Hit, NoTally, PrimitiveStore, Tally, TraversalCost};
 /// Nearest hit in `(t_min, t_max)`: planes first, then the grid's cells front to back.
 ///
 /// The direction may have any non-zero length; `t` is in units of it. Counts nothing; see
-/// [`closest_hit_costed`] for the traversal statistics.
+/// [`closest_hit_tallied`] for the traversal statistics.
 #[inline]
 pub fn closest_hit<S: PrimitiveStore>(
     scene: &TraceScene<S>,
@@ -23,13 +23,13 @@ pub fn closest_hit<S: PrimitiveStore>(
     t_min: f32,
     t_max: f32,
 ) -> Option<Hit> {
-    closest_hit_costed(scene, ray, t_min, t_max, &mut NoTally)
+    closest_hit_tallied(scene, ray, t_min, t_max, &mut NoTally)
 }
 
 /// [`closest_hit`], adding the cells visited and primitives tested to `tally` (a
 /// [`crate::store::TraversalCost`] counts them).
 #[inline]
-pub fn closest_hit_costed<S: PrimitiveStore, T: Tally>(
+pub fn closest_hit_tallied<S: PrimitiveStore, T: Tally>(
     scene: &TraceScene<S>,
     ray: &Ray,
     t_min: f32,
@@ -47,7 +47,7 @@ pub fn closest_hit_costed<S: PrimitiveStore, T: Tally>(
 }
 
 /// Nearest hit with a bounded object in `(t_min, t_max)`, walking the top-level grid with the
-/// walk the mesh grids share ([`walk::nearest`]): the second half of [`closest_hit_costed`],
+/// walk the mesh grids share ([`walk::nearest`]): the second half of [`closest_hit_tallied`],
 /// after the planes.
 #[inline]
 pub(crate) fn grid_hit<S: PrimitiveStore, T: Tally>(
@@ -106,20 +106,33 @@ impl Nearest {
 /// Fraction of light that passes along `ray` over `(0, t_max)` (`t` in units of the direction's
 /// length, which may be any): 0 behind an opaque object,
 /// the product of `kt` over every surface crossed otherwise. Counts nothing; see
-/// [`transmittance_costed`] for the traversal statistics.
+/// [`transmittance_tallied`] for the traversal statistics.
 ///
 /// Each object is handled whole the first time the walk meets it: all its crossings in
 /// `(0, t_max)` are counted then, and a per-ray list of visited ids skips it in later cells.
 /// Counting a crossing in "the cell whose t-range holds it" is not enough: a crossing exactly on
 /// a wall, or rounded across one, can land in a span whose cell does not store the object.
 pub fn transmittance<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max: f32) -> f32 {
-    transmittance_costed(scene, ray, t_max, &mut NoTally)
+    transmittance_tallied(scene, ray, t_max, &mut NoTally)
+}
+
+/// [`transmittance_tallied`] with a [`TraversalCost`], under its former name: what
+/// `phong::shadow` and the packet fallback in `trace::packet` still call. To go once they call
+/// [`transmittance_tallied`].
+#[inline]
+pub fn transmittance_costed<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    ray: &Ray,
+    t_max: f32,
+    cost: &mut TraversalCost,
+) -> f32 {
+    transmittance_tallied(scene, ray, t_max, cost)
 }
 
 /// [`transmittance`], adding the cells visited and primitives tested to `tally` (a
 /// [`TraversalCost`] counts them). Both branches walk the top-level grid with the any-hit walk
 /// the mesh grids share ([`walk::any`]); with transmission, "hit" means the light is used up.
-pub fn transmittance_costed<S: PrimitiveStore, T: Tally>(
+pub fn transmittance_tallied<S: PrimitiveStore, T: Tally>(
     scene: &TraceScene<S>,
     ray: &Ray,
     t_max: f32,
@@ -397,7 +410,7 @@ pub fn radiance<S: PrimitiveStore>(
     ctx: &mut PathContext<'_>,
 ) -> Vec3 {
     let mut cost = TraversalCost::default();
-    let found = closest_hit_costed(scene, ray, 0.0, f32::INFINITY, &mut cost);
+    let found = closest_hit_tallied(scene, ray, 0.0, f32::INFINITY, &mut cost);
     radiance_at(scene, ray, found, cost, depth, weight, ctx)
 }
 
