@@ -46,6 +46,20 @@ pub fn closest_hit_tallied<S: PrimitiveStore, T: Tally>(
     nearest.hit
 }
 
+/// [`closest_hit_tallied`] with a [`TraversalCost`], under its former name: what
+/// `examples/pk2.rs` on the main branch still calls. To go once it calls
+/// [`closest_hit_tallied`].
+#[inline]
+pub fn closest_hit_costed<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+    cost: &mut TraversalCost,
+) -> Option<Hit> {
+    closest_hit_tallied(scene, ray, t_min, t_max, cost)
+}
+
 /// Nearest hit with a bounded object in `(t_min, t_max)`, walking the top-level grid with the
 /// walk the mesh grids share ([`walk::nearest`]): the second half of [`closest_hit_tallied`],
 /// after the planes.
