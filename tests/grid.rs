@@ -12,7 +12,7 @@ use glam::{DAffine3, DVec3};
 use penumbra::accel::UniformGrid;
 use penumbra::geom::Placed;
 use penumbra::math::{Aabb, Ray, Vec3};
-use penumbra::store::{Hit, PlacedObject, PrimitiveStore};
+use penumbra::store::{Hit, NoTally, PlacedObject, PrimitiveStore};
 use penumbra::trace::integrator::transmittance;
 use penumbra::trace::{closest_hit, closest_hit_brute, Material, TraceScene};
 use rand::rngs::StdRng;
@@ -245,7 +245,7 @@ fn judge(scene: &TraceScene, q: &Query, grid: Option<Hit>, brute: Option<Hit>) -
             let again = if g.object & penumbra::store::UNBOUNDED_FLAG != 0 {
                 None
             } else {
-                scene.store.intersect_bounded(g.object, &q.ray, q.t_min, q.t_max, &mut Default::default())
+                scene.store.intersect_bounded(g.object, &q.ray, q.t_min, q.t_max, &mut NoTally)
             };
             if again.is_some_and(|h| h.t == g.t) {
                 Verdict::Tie
@@ -363,7 +363,7 @@ fn transmittance_brute(scene: &TraceScene, ray: &Ray, t_max: f32) -> f32 {
     }
     for id in 0..store.bounded_count() {
         let mut t_lo = 0.0;
-        while let Some(h) = store.intersect_bounded(id, ray, t_lo, t_max, &mut Default::default()) {
+        while let Some(h) = store.intersect_bounded(id, ray, t_lo, t_max, &mut NoTally) {
             pass *= kt(&h);
             t_lo = h.t;
         }

@@ -6,7 +6,9 @@ use std::sync::Arc;
 
 use super::mesh::{self, MeshEntry};
 use super::packet::{self, PacketHits};
-use super::{Hit, MaterialId, PlacedObject, PrimitiveStore, SurfacePoint, TraversalCost, TriangleLayout};
+use super::{
+    Hit, MaterialId, PlacedObject, PrimitiveStore, SurfacePoint, Tally, TraversalCost, TriangleLayout,
+};
 use crate::geom::mesh::MeshData;
 use crate::geom::triangle::{self, TriangleHit, WatertightRay};
 use crate::geom::{plane, sphere, Placed};
@@ -139,25 +141,25 @@ impl PrimitiveStore for AosStore {
     }
 
     #[inline]
-    fn intersect_bounded(
+    fn intersect_bounded<T: Tally>(
         &self,
         id: u32,
         ray: &Ray,
         t_min: f32,
         t_max: f32,
-        cost: &mut TraversalCost,
+        cost: &mut T,
     ) -> Option<Hit> {
         match &self.objects[id as usize].shape {
             AosShape::Sphere { centre, radius } => {
-                cost.tests += 1;
+                cost.tests(1);
                 sphere::intersect(*centre, *radius, ray, t_min, t_max).map(|t| Hit::new(t, id, 0))
             }
             AosShape::Triangles { first, count } => {
-                cost.tests += count;
+                cost.tests(*count);
                 super::triangle_range_hit(&self.triangles, id, *first, *count, ray, t_min, t_max)
             }
             AosShape::Cuboid { to_object, min, max } => {
-                cost.tests += 1;
+                cost.tests(1);
                 super::cuboid_hit(to_object, *min, *max, id, ray, t_min, t_max)
             }
             AosShape::Instance { to_object, mesh } => {
@@ -167,7 +169,7 @@ impl PrimitiveStore for AosStore {
     }
 
     #[inline]
-    fn occludes_bounded(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32, cost: &mut TraversalCost) -> bool {
+    fn occludes_bounded<T: Tally>(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32, cost: &mut T) -> bool {
         if let AosShape::Instance { to_object, mesh } = &self.objects[id as usize].shape {
             let local = mesh::object_ray(to_object, ray);
             return mesh::occluded(&self.meshes[*mesh as usize], &local, t_min, t_max, cost);
@@ -229,7 +231,7 @@ impl PrimitiveStore for AosStore {
             return mesh::intersect_brute(&self.meshes[*mesh as usize], &local, t_min, t_max)
                 .map(|(k, h)| Hit::triangle(id, k, &h));
         }
-        self.intersect_bounded(id, ray, t_min, t_max, &mut TraversalCost::default())
+        self.intersect_bounded(id, ray, t_min, t_max, &mut super::NoTally)
     }
 
     #[inline]

@@ -9,8 +9,8 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use super::{TraversalCost, TriangleLayout};
-use crate::accel::{GridBuilder, GridWalk, UniformGrid};
+use super::TriangleLayout;
+use crate::accel::{walk, GridBuilder, Tally, UniformGrid};
 use crate::geom::mesh::MeshData;
 use crate::geom::triangle::{self, TriangleHit, WatertightRay};
 use crate::math::{gamma, transform_error, Affine3A, Ray, Vec3};
@@ -123,60 +123,38 @@ pub fn object_ray(to_object: &Affine3A, ray: &Ray) -> Ray {
     Ray::new(to_object.transform_point3(ray.origin), to_object.transform_vector3(ray.dir))
 }
 
-/// Nearest triangle hit in `(t_min, t_max)` with its index, walking the mesh grid front to back.
+/// Nearest triangle hit in `(t_min, t_max)` with its index, walking the mesh grid front to back
+/// ([`walk::nearest`]), adding the cells visited and triangles tested to `cost`.
 #[inline]
-pub fn intersect<L: TriangleLayout>(
+pub fn intersect<L: TriangleLayout, T: Tally>(
     mesh: &MeshEntry<L>,
     ray: &Ray,
     t_min: f32,
     t_max: f32,
-    cost: &mut TraversalCost,
+    cost: &mut T,
 ) -> Option<(u32, TriangleHit)> {
-    let grid = &mesh.asset.grid;
     let wray = WatertightRay::new(ray);
-    let mut best: Option<(u32, TriangleHit)> = None;
-    let mut t_best = t_max;
-    for span in GridWalk::skipping(grid, ray, t_min, t_max) {
-        if span.t_enter > t_best {
-            break;
-        }
-        cost.cells += 1;
-        let prims = grid.cell_prims(span.cell);
-        cost.tests += prims.len() as u32;
-        for &i in prims {
-            if let Some(h) = mesh.triangles.intersect(i, &wray, t_min, t_best) {
-                t_best = h.t;
-                best = Some((i, h));
-            }
-        }
-        if t_best <= span.t_exit {
-            break;
-        }
-    }
-    best
+    walk::nearest(&mesh.asset.grid, ray, t_min, t_max, cost, |i, bound, cost| {
+        cost.tests(1);
+        mesh.triangles.intersect(i, &wray, t_min, bound).map(|h| (h.t, (i, h)))
+    })
 }
 
-/// True when some triangle is hit in `(t_min, t_max)` (stops at the first).
+/// True when some triangle is hit in `(t_min, t_max)` (stops at the first), walking the mesh
+/// grid ([`walk::any`]) and adding the cells visited and triangles tested to `cost`.
 #[inline]
-pub fn occluded<L: TriangleLayout>(
+pub fn occluded<L: TriangleLayout, T: Tally>(
     mesh: &MeshEntry<L>,
     ray: &Ray,
     t_min: f32,
     t_max: f32,
-    cost: &mut TraversalCost,
+    cost: &mut T,
 ) -> bool {
-    let grid = &mesh.asset.grid;
     let wray = WatertightRay::new(ray);
-    for span in GridWalk::skipping(grid, ray, t_min, t_max) {
-        cost.cells += 1;
-        for &i in grid.cell_prims(span.cell) {
-            cost.tests += 1;
-            if mesh.triangles.intersect(i, &wray, t_min, t_max).is_some() {
-                return true;
-            }
-        }
-    }
-    false
+    walk::any(&mesh.asset.grid, ray, t_min, t_max, cost, |i, cost| {
+        cost.tests(1);
+        mesh.triangles.intersect(i, &wray, t_min, t_max).is_some()
+    })
 }
 
 /// Nearest triangle hit by testing every triangle: the reference for the mesh grid.
@@ -201,14 +179,14 @@ pub fn intersect_brute<L: TriangleLayout>(
 /// Nearest hit of a ray with mesh instance `object`: the ray enters the mesh through
 /// `to_object` (shared by both store layouts).
 #[inline]
-pub fn instance_hit<L: TriangleLayout>(
+pub fn instance_hit<L: TriangleLayout, T: Tally>(
     mesh: &MeshEntry<L>,
     to_object: &Affine3A,
     object: u32,
     ray: &Ray,
     t_min: f32,
     t_max: f32,
-    cost: &mut TraversalCost,
+    cost: &mut T,
 ) -> Option<super::Hit> {
     intersect(mesh, &object_ray(to_object, ray), t_min, t_max, cost)
         .map(|(i, h)| super::Hit::triangle(object, i, &h))

@@ -21,6 +21,8 @@ pub use mesh::{MeshAsset, MeshEntry};
 pub use packet::PacketHits;
 pub use soa::{SoaStore, SoaTriangles};
 
+pub use crate::accel::{NoTally, Tally};
+
 use crate::geom::mesh::MeshData;
 use crate::geom::triangle::{TriangleHit, WatertightRay};
 use crate::geom::Placed;
@@ -63,7 +65,8 @@ impl Hit {
     }
 }
 
-/// What one ray's traversal cost: grid cells visited and primitives tested, both levels.
+/// What one ray's traversal cost: grid cells visited and primitives tested, both levels. The
+/// [`Tally`] that counts.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct TraversalCost {
     /// Cells visited (top level and mesh grids).
@@ -77,6 +80,18 @@ impl TraversalCost {
     pub fn per_ray(&self, rays: u32) -> Self {
         let rays = rays.max(1);
         Self { cells: self.cells.div_ceil(rays), tests: self.tests.div_ceil(rays) }
+    }
+}
+
+impl Tally for TraversalCost {
+    #[inline(always)]
+    fn cell(&mut self) {
+        self.cells += 1;
+    }
+
+    #[inline(always)]
+    fn tests(&mut self, n: u32) {
+        self.tests += n;
     }
 }
 
@@ -164,17 +179,18 @@ pub trait PrimitiveStore: Send + Sync + Sized + std::fmt::Debug + 'static {
     ) -> Self;
     /// Number of bounded objects.
     fn bounded_count(&self) -> u32;
-    /// Nearest hit with bounded object `id` in `(t_min, t_max)`, adding its cost.
-    fn intersect_bounded(
+    /// Nearest hit with bounded object `id` in `(t_min, t_max)`, adding its cost to `cost`
+    /// (pass [`NoTally`] when nobody asks).
+    fn intersect_bounded<T: Tally>(
         &self,
         id: u32,
         ray: &Ray,
         t_min: f32,
         t_max: f32,
-        cost: &mut TraversalCost,
+        cost: &mut T,
     ) -> Option<Hit>;
-    /// True when bounded object `id` is hit anywhere in `(t_min, t_max)`.
-    fn occludes_bounded(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32, cost: &mut TraversalCost) -> bool {
+    /// True when bounded object `id` is hit anywhere in `(t_min, t_max)`, adding its cost.
+    fn occludes_bounded<T: Tally>(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32, cost: &mut T) -> bool {
         self.intersect_bounded(id, ray, t_min, t_max, cost).is_some()
     }
     /// The packet form of [`PrimitiveStore::intersect_bounded`]: each `live` lane's nearest hit

@@ -9,7 +9,9 @@ use std::sync::Arc;
 
 use super::mesh::{self, MeshEntry};
 use super::packet::{self, PacketHits};
-use super::{Hit, MaterialId, PlacedObject, PrimitiveStore, SurfacePoint, TraversalCost, TriangleLayout};
+use super::{
+    Hit, MaterialId, PlacedObject, PrimitiveStore, SurfacePoint, Tally, TraversalCost, TriangleLayout,
+};
 use crate::geom::mesh::MeshData;
 use crate::geom::triangle::{self, TriangleHit, WatertightRay};
 use crate::geom::{plane, sphere, Placed};
@@ -217,29 +219,29 @@ impl PrimitiveStore for SoaStore {
     }
 
     #[inline]
-    fn intersect_bounded(
+    fn intersect_bounded<T: Tally>(
         &self,
         id: u32,
         ray: &Ray,
         t_min: f32,
         t_max: f32,
-        cost: &mut TraversalCost,
+        cost: &mut T,
     ) -> Option<Hit> {
         let o = id as usize;
         let first = self.first[o] as usize;
         match self.kind[o] {
             Kind::Sphere => {
-                cost.tests += 1;
+                cost.tests(1);
                 sphere::intersect(self.centre.get(first), self.radius[first], ray, t_min, t_max)
                     .map(|t| Hit::new(t, id, 0))
             }
             Kind::Triangles => {
                 let count = self.count[o];
-                cost.tests += count;
+                cost.tests(count);
                 super::triangle_range_hit(&self.triangles, id, first as u32, count, ray, t_min, t_max)
             }
             Kind::Cuboid => {
-                cost.tests += 1;
+                cost.tests(1);
                 let to_object = self.box_to_object.get(first);
                 super::cuboid_hit(
                     &to_object,
@@ -259,7 +261,7 @@ impl PrimitiveStore for SoaStore {
     }
 
     #[inline]
-    fn occludes_bounded(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32, cost: &mut TraversalCost) -> bool {
+    fn occludes_bounded<T: Tally>(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32, cost: &mut T) -> bool {
         let o = id as usize;
         if self.kind[o] == Kind::Instance {
             let i = self.first[o] as usize;
@@ -349,7 +351,7 @@ impl PrimitiveStore for SoaStore {
             let local = mesh::object_ray(&self.instance_to_object.get(i), ray);
             return mesh::intersect_brute(mesh, &local, t_min, t_max).map(|(k, h)| Hit::triangle(id, k, &h));
         }
-        self.intersect_bounded(id, ray, t_min, t_max, &mut TraversalCost::default())
+        self.intersect_bounded(id, ray, t_min, t_max, &mut super::NoTally)
     }
 
     #[inline]

@@ -5,20 +5,17 @@ use super::phong::{direct_light, Surface};
 use super::render::{RenderSettings, Sampling};
 use super::scene::TraceScene;
 use super::stats::RayCounts;
-use crate::accel::GridWalk;
+use crate::accel::walk;
 use crate::math::{reflect, refract, Ray, Vec2, Vec3};
 use crate::sample::pattern::square_point;
 use crate::sample::rng::{hash, permute, uniform2, SampleKey, SampleStream};
 use crate::sample::warp::cone;
-use crate::store::{Hit, PrimitiveStore, TraversalCost};
+use crate::store::{Hit, NoTally, PrimitiveStore, Tally, TraversalCost};
 
 /// Nearest hit in `(t_min, t_max)`: planes first, then the grid's cells front to back.
 ///
-/// The direction may have any non-zero length; `t` is in units of it.
-///
-/// A hit found in a cell is final once it lies within that cell's t-range: no later cell can
-/// hold a nearer one. A hit beyond the range (an object reaching into later cells) is kept as
-/// the bound for the rest of the walk, so it is never tested again at a larger t.
+/// The direction may have any non-zero length; `t` is in units of it. Counts nothing; see
+/// [`closest_hit_tallied`] for the traversal statistics.
 #[inline]
 pub fn closest_hit<S: PrimitiveStore>(
     scene: &TraceScene<S>,
@@ -26,10 +23,32 @@ pub fn closest_hit<S: PrimitiveStore>(
     t_min: f32,
     t_max: f32,
 ) -> Option<Hit> {
-    closest_hit_costed(scene, ray, t_min, t_max, &mut TraversalCost::default())
+    closest_hit_tallied(scene, ray, t_min, t_max, &mut NoTally)
 }
 
-/// [`closest_hit`], adding the cells visited and primitives tested to `cost`.
+/// [`closest_hit`], adding the cells visited and primitives tested to `tally` (a
+/// [`crate::store::TraversalCost`] counts them).
+#[inline]
+pub fn closest_hit_tallied<S: PrimitiveStore, T: Tally>(
+    scene: &TraceScene<S>,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+    tally: &mut T,
+) -> Option<Hit> {
+    let mut nearest = Nearest::new(t_max);
+    let store = &scene.store;
+    for i in 0..store.unbounded_count() {
+        tally.tests(1);
+        nearest.offer(store.intersect_unbounded(i, ray, t_min, nearest.t));
+    }
+    nearest.offer(grid_hit(scene, ray, t_min, nearest.t, tally));
+    nearest.hit
+}
+
+/// [`closest_hit_tallied`] with a [`TraversalCost`], under its former name: what
+/// `examples/pk2.rs` on the main branch still calls. To go once it calls
+/// [`closest_hit_tallied`].
 #[inline]
 pub fn closest_hit_costed<S: PrimitiveStore>(
     scene: &TraceScene<S>,
@@ -38,41 +57,24 @@ pub fn closest_hit_costed<S: PrimitiveStore>(
     t_max: f32,
     cost: &mut TraversalCost,
 ) -> Option<Hit> {
-    let mut nearest = Nearest::new(t_max);
-    let store = &scene.store;
-    for i in 0..store.unbounded_count() {
-        cost.tests += 1;
-        nearest.offer(store.intersect_unbounded(i, ray, t_min, nearest.t));
-    }
-    nearest.offer(grid_hit(scene, ray, t_min, nearest.t, cost));
-    nearest.hit
+    closest_hit_tallied(scene, ray, t_min, t_max, cost)
 }
 
-/// Nearest hit with a bounded object in `(t_min, t_max)`, walking the top-level grid (the second
-/// half of [`closest_hit_costed`], after the planes).
+/// Nearest hit with a bounded object in `(t_min, t_max)`, walking the top-level grid with the
+/// walk the mesh grids share ([`walk::nearest`]): the second half of [`closest_hit_tallied`],
+/// after the planes.
 #[inline]
-pub(crate) fn grid_hit<S: PrimitiveStore>(
+pub(crate) fn grid_hit<S: PrimitiveStore, T: Tally>(
     scene: &TraceScene<S>,
     ray: &Ray,
     t_min: f32,
     t_max: f32,
-    cost: &mut TraversalCost,
+    tally: &mut T,
 ) -> Option<Hit> {
-    let mut nearest = Nearest::new(t_max);
     let store = &scene.store;
-    for span in GridWalk::skipping(&scene.grid, ray, t_min, nearest.t) {
-        if span.t_enter > nearest.t {
-            break;
-        }
-        cost.cells += 1;
-        for &id in scene.grid.cell_prims(span.cell) {
-            nearest.offer(store.intersect_bounded(id, ray, t_min, nearest.t, cost));
-        }
-        if nearest.t <= span.t_exit {
-            break;
-        }
-    }
-    nearest.hit
+    walk::nearest(&scene.grid, ray, t_min, t_max, tally, |id, bound, tally| {
+        store.intersect_bounded(id, ray, t_min, bound, tally).map(|h| (h.t, h))
+    })
 }
 
 /// Nearest hit by testing every object: the reference the grid is checked against.
@@ -117,22 +119,38 @@ impl Nearest {
 
 /// Fraction of light that passes along `ray` over `(0, t_max)` (`t` in units of the direction's
 /// length, which may be any): 0 behind an opaque object,
-/// the product of `kt` over every surface crossed otherwise.
+/// the product of `kt` over every surface crossed otherwise. Counts nothing; see
+/// [`transmittance_tallied`] for the traversal statistics.
 ///
 /// Each object is handled whole the first time the walk meets it: all its crossings in
 /// `(0, t_max)` are counted then, and a per-ray list of visited ids skips it in later cells.
 /// Counting a crossing in "the cell whose t-range holds it" is not enough: a crossing exactly on
 /// a wall, or rounded across one, can land in a span whose cell does not store the object.
 pub fn transmittance<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max: f32) -> f32 {
-    transmittance_costed(scene, ray, t_max, &mut TraversalCost::default())
+    transmittance_tallied(scene, ray, t_max, &mut NoTally)
 }
 
-/// [`transmittance`], adding the cells visited and primitives tested to `cost`.
+/// [`transmittance_tallied`] with a [`TraversalCost`], under its former name: what
+/// `phong::shadow` and the packet fallback in `trace::packet` still call. To go once they call
+/// [`transmittance_tallied`].
+#[inline]
 pub fn transmittance_costed<S: PrimitiveStore>(
     scene: &TraceScene<S>,
     ray: &Ray,
     t_max: f32,
     cost: &mut TraversalCost,
+) -> f32 {
+    transmittance_tallied(scene, ray, t_max, cost)
+}
+
+/// [`transmittance`], adding the cells visited and primitives tested to `tally` (a
+/// [`TraversalCost`] counts them). Both branches walk the top-level grid with the any-hit walk
+/// the mesh grids share ([`walk::any`]); with transmission, "hit" means the light is used up.
+pub fn transmittance_tallied<S: PrimitiveStore, T: Tally>(
+    scene: &TraceScene<S>,
+    ray: &Ray,
+    t_max: f32,
+    tally: &mut T,
 ) -> f32 {
     let store = &scene.store;
     let opaque_only = !scene.effects.transmission;
@@ -143,45 +161,42 @@ pub fn transmittance_costed<S: PrimitiveStore>(
         opaque_only || pass == 0.0
     };
     for i in 0..store.unbounded_count() {
-        cost.tests += 1;
+        tally.tests(1);
         if let Some(h) = store.intersect_unbounded(i, ray, 0.0, t_max) {
             if cross(&h) {
                 return 0.0;
             }
         }
     }
-    let walk = GridWalk::skipping(&scene.grid, ray, 0.0, t_max);
+    let grid = &scene.grid;
     if opaque_only {
         // Any crossing anywhere in (0, t_max) blocks the light: no bookkeeping needed.
-        for span in walk {
-            cost.cells += 1;
-            for &id in scene.grid.cell_prims(span.cell) {
-                if store.occludes_bounded(id, ray, 0.0, t_max, cost) {
-                    return 0.0;
-                }
-            }
-        }
-        return pass;
+        let blocked = walk::any(grid, ray, 0.0, t_max, tally, |id, tally| {
+            store.occludes_bounded(id, ray, 0.0, t_max, tally)
+        });
+        return if blocked { 0.0 } else { pass };
     }
     let mut visited: Vec<u32> = Vec::new();
-    for span in walk {
-        cost.cells += 1;
-        for &id in scene.grid.cell_prims(span.cell) {
-            if visited.contains(&id) {
-                continue;
-            }
-            visited.push(id);
-            // All of this object's crossings, nearest first.
-            let mut t_lo = 0.0;
-            while let Some(h) = store.intersect_bounded(id, ray, t_lo, t_max, cost) {
-                if cross(&h) {
-                    return 0.0;
-                }
-                t_lo = h.t;
-            }
+    let blocked = walk::any(grid, ray, 0.0, t_max, tally, |id, tally| {
+        if visited.contains(&id) {
+            return false;
         }
+        visited.push(id);
+        // All of this object's crossings, nearest first.
+        let mut t_lo = 0.0;
+        while let Some(h) = store.intersect_bounded(id, ray, t_lo, t_max, tally) {
+            if cross(&h) {
+                return true;
+            }
+            t_lo = h.t;
+        }
+        false
+    });
+    if blocked {
+        0.0
+    } else {
+        pass
     }
-    pass
 }
 
 /// Default of [`RenderSettings::max_secondary_rays`]: the secondary rays one camera sample may
@@ -409,7 +424,7 @@ pub fn radiance<S: PrimitiveStore>(
     ctx: &mut PathContext<'_>,
 ) -> Vec3 {
     let mut cost = TraversalCost::default();
-    let found = closest_hit_costed(scene, ray, 0.0, f32::INFINITY, &mut cost);
+    let found = closest_hit_tallied(scene, ray, 0.0, f32::INFINITY, &mut cost);
     radiance_at(scene, ray, found, cost, depth, weight, ctx)
 }
 
