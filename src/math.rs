@@ -259,6 +259,7 @@ impl<const N: usize> RayPacket<N> {
     /// The packet mapped into an instance's object space lane by lane, exactly as
     /// [`crate::store::mesh::object_ray`] maps a single ray (ranges and lanes unchanged).
     #[inline]
+    #[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
     pub fn mapped(&self, to_object: &Affine3A, live: &[bool; N]) -> Self {
         let mut out = Self { t_min: self.t_min, t_max: self.t_max, active: *live, ..Self::default() };
         for i in 0..N {

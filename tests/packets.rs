@@ -5,6 +5,9 @@
 //! parallel rays, a shared origin inside the grid, origins inside objects and segments with
 //! finite ranges. And the lane-wise triangle kernel equals the scalar one bit for bit.
 
+// Lane loops index several parallel lane arrays by the same lane number.
+#![allow(clippy::needless_range_loop)]
+
 mod common;
 
 use std::sync::Arc;

@@ -10,6 +10,9 @@
 //! the slice just searched, as a single ray stops at the end of its cell: the objects a lane is
 //! tested against include every one its single-ray walk would have found nearest.
 
+// Lane loops index several parallel lane arrays by the same lane number.
+#![allow(clippy::needless_range_loop)]
+
 use super::grid::UniformGrid;
 use crate::math::{RayPacket, Vec3};
 

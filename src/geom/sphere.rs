@@ -201,6 +201,7 @@ pub fn overlaps_box(centre: Vec3, radius: f32, cell: &Aabb) -> bool {
 /// the same operations in the same order, lane-wise; a lane near the tangent (the cold path)
 /// is handed to [`intersect`] itself.
 #[inline(always)]
+#[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
 pub fn intersect_lanes<const N: usize>(
     centre: Vec3,
     radius: f32,
@@ -241,7 +242,8 @@ pub fn intersect_lanes<const N: usize>(
         } else {
             f32::NAN
         };
-        found[i] = if live[i] & !cold[i] & !(disc < 0.0) { t } else { f32::NAN };
+        // `disc < 0.0` misses; a NaN goes on to the roots, as in `intersect`, and misses there.
+        found[i] = if live[i] & !cold[i] & (disc >= 0.0 || disc.is_nan()) { t } else { f32::NAN };
     }
     for i in 0..N {
         if cold[i] {

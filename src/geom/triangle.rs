@@ -232,6 +232,7 @@ impl<const N: usize> WatertightPacket<N> {
 
     /// Prepares the `live` lanes of `packet`.
     #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
     pub fn new(packet: &crate::math::RayPacket<N>, live: &[bool; N]) -> Self {
         let mut p = Self {
             rays: [None; N],
@@ -273,6 +274,7 @@ impl<const N: usize> WatertightPacket<N> {
 /// `(t_min, best.t)`; a lane it hits nearer gets `record(lane, index, hit)` and its bound moves.
 /// Bit for bit [`triangle::intersect`] on every lane.
 #[inline(always)]
+#[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
 pub fn triangle_lanes<const N: usize>(
     [v0, v1, v2]: [Vec3; 3],
     w: &WatertightPacket<N>,

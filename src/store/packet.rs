@@ -2,6 +2,9 @@
 //! traversal (a packet mapped into an instance's object space walks the mesh grid and tests
 //! each triangle against all its lanes with one kernel).
 
+// Lane loops index several parallel lane arrays by the same lane number.
+#![allow(clippy::needless_range_loop)]
+
 use super::{Hit, MeshEntry, TraversalCost, TriangleLayout};
 use crate::accel::packet::{coherent_walk, PacketSink};
 use crate::geom::triangle::{triangle_lanes, TriangleHit, WatertightPacket};

@@ -46,20 +46,6 @@ pub fn closest_hit_tallied<S: PrimitiveStore, T: Tally>(
     nearest.hit
 }
 
-/// [`closest_hit_tallied`] with a [`TraversalCost`], under its former name: what
-/// `examples/pk2.rs` on the main branch still calls. To go once it calls
-/// [`closest_hit_tallied`].
-#[inline]
-pub fn closest_hit_costed<S: PrimitiveStore>(
-    scene: &TraceScene<S>,
-    ray: &Ray,
-    t_min: f32,
-    t_max: f32,
-    cost: &mut TraversalCost,
-) -> Option<Hit> {
-    closest_hit_tallied(scene, ray, t_min, t_max, cost)
-}
-
 /// Nearest hit with a bounded object in `(t_min, t_max)`, walking the top-level grid with the
 /// walk the mesh grids share ([`walk::nearest`]): the second half of [`closest_hit_tallied`],
 /// after the planes.
@@ -128,19 +114,6 @@ impl Nearest {
 /// a wall, or rounded across one, can land in a span whose cell does not store the object.
 pub fn transmittance<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max: f32) -> f32 {
     transmittance_tallied(scene, ray, t_max, &mut NoTally)
-}
-
-/// [`transmittance_tallied`] with a [`TraversalCost`], under its former name: what
-/// `phong::shadow` and the packet fallback in `trace::packet` still call. To go once they call
-/// [`transmittance_tallied`].
-#[inline]
-pub fn transmittance_costed<S: PrimitiveStore>(
-    scene: &TraceScene<S>,
-    ray: &Ray,
-    t_max: f32,
-    cost: &mut TraversalCost,
-) -> f32 {
-    transmittance_tallied(scene, ray, t_max, cost)
 }
 
 /// [`transmittance`], adding the cells visited and primitives tested to `tally` (a

@@ -19,8 +19,7 @@ pub mod stats;
 pub use effects::Effects;
 pub use finite::DroppedSamples;
 pub use integrator::{
-    closest_hit, closest_hit_brute, closest_hit_costed, closest_hit_tallied, facing_normals, transmittance,
-    transmittance_costed, transmittance_tallied,
+    closest_hit, closest_hit_brute, closest_hit_tallied, facing_normals, transmittance, transmittance_tallied,
 };
 pub use light::Light;
 pub use material::Material;

@@ -20,6 +20,9 @@
 //! ray stops at the end of its cell. A packet whose rays disagree on the sign of the dominant
 //! axis falls back to walking its lanes one by one, with the same results.
 
+// Lane loops index several parallel lane arrays by the same lane number.
+#![allow(clippy::needless_range_loop)]
+
 use super::scene::TraceScene;
 use crate::accel::packet::{coherent_walk, PacketSink};
 use crate::math::RayPacket;
@@ -143,7 +146,7 @@ pub fn occluded<const N: usize, S: PrimitiveStore>(
         for i in 0..N {
             if open[i] {
                 let pass =
-                    super::integrator::transmittance_costed(scene, &packet.ray(i), packet.t_max[i], cost);
+                    super::integrator::transmittance_tallied(scene, &packet.ray(i), packet.t_max[i], cost);
                 occluded[i] = pass == 0.0;
             }
         }
@@ -160,7 +163,7 @@ pub fn occluded<const N: usize, S: PrimitiveStore>(
         for i in 0..N {
             if open[i] && !occluded[i] {
                 let pass =
-                    super::integrator::transmittance_costed(scene, &packet.ray(i), packet.t_max[i], cost);
+                    super::integrator::transmittance_tallied(scene, &packet.ray(i), packet.t_max[i], cost);
                 occluded[i] = pass == 0.0;
             }
         }
