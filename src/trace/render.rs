@@ -164,8 +164,10 @@ pub fn render_observed<S: PrimitiveStore>(
     }
     let (Assembled { film, mut rays, cost, dropped }, adaptive) = match settings.adaptive {
         Some(adaptive) => render_adaptive(scene, settings, &adaptive, wanted.cost, &tile_done),
-        // Packets need no per-pixel ray counts; the cost AOV, which does, traces single rays.
-        None if settings.simd.packets() && !wanted.cost => {
+        // Packets need no per-pixel ray counts; the cost AOV, which does, traces single rays. So
+        // do lens cameras: each lane's lens point differs, so a block's rays do not form a
+        // frustum worth walking (measured: 20 % slower on effects_dof). Shadow packets remain.
+        None if settings.simd.packets() && !wanted.cost && !scene.camera.has_lens() => {
             let level = settings.simd.resolve();
             let tile = |area: [u32; 4], rays: &mut RayCounts, out: &mut TileOut| {
                 packet_tile(scene, settings, level, area, rays, out)
