@@ -388,7 +388,7 @@ proptest! {
                 // A point on the sphere's silhouette as seen from the origin: grazing rays.
                 let to = (centre - origin).normalize_or(Vec3::X);
                 let side = to.any_orthonormal_vector();
-                centre + side * radius + to * 0.0
+                centre + side * radius
             } else {
                 centre + *aim * radius
             };

@@ -65,7 +65,7 @@ pub fn mesh_hits<const N: usize, L: TriangleLayout>(
         }
         #[inline(always)]
         fn visit(&mut self, id: u32, live: &[bool; N]) {
-            self.tests += live.iter().filter(|&&l| l).count() as u32;
+            self.tests += lanes(live);
             let record = &mut self.record;
             triangle_lanes(self.triangles.vertices(id), &self.w, live, &self.t_min, self.bound, |i, h| {
                 record(i, id, h)
@@ -153,7 +153,7 @@ pub fn triangle_range_hits<const N: usize, L: TriangleLayout>(
     hits: &mut PacketHits<N>,
     cost: &mut TraversalCost,
 ) {
-    cost.tests += count * live.iter().filter(|&&l| l).count() as u32;
+    cost.tests += count * lanes(live);
     let w = WatertightPacket::new(packet, live);
     let found = &mut hits.hit;
     for k in first..first + count {
@@ -196,7 +196,7 @@ pub fn triangle_range_occluded<const N: usize, L: TriangleLayout>(
     occluded: &mut [bool; N],
     cost: &mut TraversalCost,
 ) {
-    cost.tests += count * live.iter().filter(|&&l| l).count() as u32;
+    cost.tests += count * lanes(live);
     let w = WatertightPacket::new(packet, live);
     let mut bound = packet.t_max;
     for k in first..first + count {
@@ -234,7 +234,7 @@ pub fn sphere_hits<const N: usize>(
     hits: &mut PacketHits<N>,
     cost: &mut TraversalCost,
 ) {
-    cost.tests += live.iter().filter(|&&l| l).count() as u32;
+    cost.tests += lanes(live);
     let found = &mut hits.hit;
     crate::geom::sphere::intersect_lanes(centre, radius, packet, live, &mut hits.t, |i, t| {
         found[i] = Some(Hit::new(t, object, 0))
@@ -251,7 +251,13 @@ pub fn sphere_occluded<const N: usize>(
     occluded: &mut [bool; N],
     cost: &mut TraversalCost,
 ) {
-    cost.tests += live.iter().filter(|&&l| l).count() as u32;
+    cost.tests += lanes(live);
     let mut bound = packet.t_max;
     crate::geom::sphere::intersect_lanes(centre, radius, packet, live, &mut bound, |i, _| occluded[i] = true);
+}
+
+/// Number of `live` lanes: one primitive test each.
+#[inline(always)]
+fn lanes<const N: usize>(live: &[bool; N]) -> u32 {
+    live.iter().filter(|&&l| l).count() as u32
 }
