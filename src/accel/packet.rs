@@ -144,7 +144,8 @@ impl<const N: usize> Frame<'_, N> {
 /// cell of a slice's rectangle is at least `m` cells from any object, the next `m − 1` slices
 /// are empty wherever their own rectangle stays within `m − 1` cells of it.
 ///
-/// Returns `None` when the packet is not coherent enough to walk together: when the live lanes
+/// Returns `None` when the packet is not coherent enough to walk together (and `Some` when it
+/// walked, or when no lane meets the grid): when the live lanes
 /// disagree on the sign of the dominant axis (or move along it not at all), or when a slice's
 /// rectangle holds more than [`CELLS_PER_LANE`] cells per walking lane (rays spreading apart, or
 /// crossing the grid at a shallow angle to the slices). What the sink has found so far stands;
@@ -173,7 +174,8 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
             first.get_or_insert(i);
         }
     }
-    let first = first?;
+    // No lane meets the grid: nothing to walk.
+    let Some(first) = first else { return Some(()) };
     // The dominant axis of the first lane; every lane must move along it the same way, with a
     // finite reciprocal.
     let d0 = [packet.dir[0][first], packet.dir[1][first], packet.dir[2][first]];

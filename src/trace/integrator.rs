@@ -104,8 +104,9 @@ impl Nearest {
 }
 
 /// Fraction of light that passes along `ray` over `(0, t_max)` (`t` in units of the direction's
-/// length, which may be any): 0 behind an opaque object,
-/// the product of `kt` over every surface crossed otherwise. Counts nothing; see
+/// length, which may be any): 0 behind an opaque object, the product of `kt` over every surface
+/// crossed otherwise (planes first, then each object's crossings nearest first, the objects in
+/// ascending id: [`ordered_product`]). Counts nothing; see
 /// [`transmittance_tallied`] for the traversal statistics.
 ///
 /// Each object is handled whole the first time the walk meets it: all its crossings in
@@ -126,50 +127,89 @@ pub fn transmittance_tallied<S: PrimitiveStore, T: Tally>(
     tally: &mut T,
 ) -> f32 {
     let store = &scene.store;
-    let opaque_only = !scene.effects.transmission;
-    let mut pass = 1.0f32;
-    let mut cross = |h: &Hit| -> bool {
-        let kt = scene.material(store.material(h)).kt;
-        pass *= kt;
-        opaque_only || pass == 0.0
-    };
-    for i in 0..store.unbounded_count() {
-        tally.tests(1);
-        if let Some(h) = store.intersect_unbounded(i, ray, 0.0, t_max) {
-            if cross(&h) {
-                return 0.0;
-            }
-        }
+    let pass = planes_transmittance(scene, ray, t_max, tally);
+    if pass == 0.0 {
+        return 0.0;
     }
     let grid = &scene.grid;
-    if opaque_only {
+    if !scene.effects.transmission {
         // Any crossing anywhere in (0, t_max) blocks the light: no bookkeeping needed.
         let blocked = walk::any(grid, ray, 0.0, t_max, tally, |id, tally| {
             store.occludes_bounded(id, ray, 0.0, t_max, tally)
         });
         return if blocked { 0.0 } else { pass };
     }
-    let mut visited: Vec<u32> = Vec::new();
+    let mut shares: Vec<(u32, f32)> = Vec::new();
     let blocked = walk::any(grid, ray, 0.0, t_max, tally, |id, tally| {
-        if visited.contains(&id) {
+        if shares.iter().any(|&(seen, _)| seen == id) {
             return false;
         }
-        visited.push(id);
-        // All of this object's crossings, nearest first.
-        let mut t_lo = 0.0;
-        while let Some(h) = store.intersect_bounded(id, ray, t_lo, t_max, tally) {
-            if cross(&h) {
-                return true;
-            }
-            t_lo = h.t;
-        }
-        false
+        let share = object_transmittance(scene, id, ray, t_max, tally);
+        shares.push((id, share));
+        share == 0.0
     });
     if blocked {
         0.0
     } else {
-        pass
+        ordered_product(pass, &mut shares)
     }
+}
+
+/// The planes' part of a shadow ray's transmittance: `kt` of every plane crossed in
+/// `(0, t_max)`, multiplied in plane order (0 as soon as one blocks; in a scene without
+/// transmission, any crossing blocks).
+#[inline]
+pub(crate) fn planes_transmittance<S: PrimitiveStore, T: Tally>(
+    scene: &TraceScene<S>,
+    ray: &Ray,
+    t_max: f32,
+    tally: &mut T,
+) -> f32 {
+    let store = &scene.store;
+    let mut pass = 1.0f32;
+    for i in 0..store.unbounded_count() {
+        tally.tests(1);
+        if let Some(h) = store.intersect_unbounded(i, ray, 0.0, t_max) {
+            pass *= scene.material(store.material(&h)).kt;
+            if !scene.effects.transmission || pass == 0.0 {
+                return 0.0;
+            }
+        }
+    }
+    pass
+}
+
+/// Bounded object `id`'s share of a shadow ray's transmittance: its `kt` once per crossing in
+/// `(0, t_max)`, multiplied nearest first; 0 once it blocks.
+#[inline]
+pub(crate) fn object_transmittance<S: PrimitiveStore, T: Tally>(
+    scene: &TraceScene<S>,
+    id: u32,
+    ray: &Ray,
+    t_max: f32,
+    tally: &mut T,
+) -> f32 {
+    let store = &scene.store;
+    let mut share = 1.0f32;
+    let mut t_lo = 0.0;
+    while let Some(h) = store.intersect_bounded(id, ray, t_lo, t_max, tally) {
+        share *= scene.material(store.material(&h)).kt;
+        if share == 0.0 {
+            return 0.0;
+        }
+        t_lo = h.t;
+    }
+    share
+}
+
+/// A shadow ray's transmittance from its planes' part and its objects' shares: the shares are
+/// multiplied in ascending object id, an order that does not depend on how the objects were
+/// found, so a single ray's walk and a packet's (which meets objects in another order) give the
+/// same bits. Sorts `shares` (ids are distinct).
+#[inline]
+pub(crate) fn ordered_product(pass: f32, shares: &mut [(u32, f32)]) -> f32 {
+    shares.sort_unstable_by_key(|&(id, _)| id);
+    shares.iter().fold(pass, |pass, &(_, share)| pass * share)
 }
 
 /// Default of [`RenderSettings::max_secondary_rays`]: the secondary rays one camera sample may

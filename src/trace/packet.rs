@@ -32,6 +32,12 @@ use crate::store::{PacketHits, PrimitiveStore, TraversalCost};
 /// `benches/layout.rs`).
 pub const LANES: usize = 16;
 
+/// Fewest rays worth tracing as a packet: narrower ones go alone. A frustum walk costs about
+/// what a few rays' own walks cost, and one or two rays crossing a slice diagonally already
+/// overflow its per-lane cell budget (measured: `showcase`, whose area light gives each camera
+/// sample one shadow ray, ran 1.35× slower with one-ray packets).
+pub const MIN_LANES: usize = 4;
+
 /// Every lane's nearest hit in the scene: planes lane by lane, then the top-level grid by
 /// coherent traversal (or lane by lane where the packet is not coherent). Equal, lane for lane,
 /// to [`super::integrator::closest_hit`]. `cost` gets the packet's cells and tests.
@@ -169,6 +175,145 @@ pub fn occluded<const N: usize, S: PrimitiveStore>(
         }
     }
     occluded
+}
+
+/// Every active lane's shadow transmittance over `(0, t_max)`: equal, lane for lane, to
+/// [`super::integrator::transmittance`]. Opaque scenes trace the packet with [`occluded`] (1 or
+/// 0); scenes with transmission with [`transmittances`]. Shadow packets start at `t_min = 0`.
+#[inline(always)]
+pub fn shadow_passes<const N: usize, S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    packet: &RayPacket<N>,
+    cost: &mut TraversalCost,
+) -> [f32; N] {
+    if scene.effects.transmission {
+        transmittances(scene, packet, cost)
+    } else {
+        occluded(scene, packet, cost).map(|blocked| if blocked { 0.0 } else { 1.0 })
+    }
+}
+
+/// Every active lane's shadow transmittance in a scene with transmission: planes lane by lane,
+/// then the top-level grid by coherent traversal. Each object met is handled whole for every
+/// walking lane, as a single ray handles it ([`super::integrator::object_transmittance`]: all
+/// its crossings, nearest first, each found by the packet kernels), and a lane drops out once an
+/// object blocks it. A lane's shares are multiplied in ascending object id
+/// ([`super::integrator::ordered_product`]), the order the single-ray walk uses too, so the
+/// product has the same bits although the packet meets the objects in another order. Lanes of
+/// a packet that cannot walk together are traced alone from the start.
+#[inline(always)]
+pub fn transmittances<const N: usize, S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    packet: &RayPacket<N>,
+    cost: &mut TraversalCost,
+) -> [f32; N] {
+    use super::integrator::{ordered_product, planes_transmittance, transmittance_tallied};
+    /// One object met by the walk: each lane's share, and which lanes have one.
+    struct Met<const N: usize> {
+        id: u32,
+        share: [f32; N],
+        done: [bool; N],
+    }
+    struct Shares<'a, const N: usize, S: PrimitiveStore> {
+        scene: &'a TraceScene<S>,
+        packet: &'a RayPacket<N>,
+        bound: [f32; N],
+        met: Vec<Met<N>>,
+        cost: TraversalCost,
+    }
+    impl<const N: usize, S: PrimitiveStore> PacketSink<N> for Shares<'_, N, S> {
+        #[inline(always)]
+        fn bound(&self) -> &[f32; N] {
+            &self.bound
+        }
+        #[inline(always)]
+        fn visit(&mut self, id: u32, live: &[bool; N]) {
+            let k = match self.met.iter().position(|m| m.id == id) {
+                Some(k) => k,
+                None => {
+                    self.met.push(Met { id, share: [1.0; N], done: [false; N] });
+                    self.met.len() - 1
+                }
+            };
+            let met = &mut self.met[k];
+            // The lanes still open that have no share of this object yet: all its crossings,
+            // nearest first, one packet-kernel call per crossing.
+            let mut todo = [false; N];
+            for i in 0..N {
+                todo[i] = live[i] & (self.bound[i] > f32::NEG_INFINITY) & !met.done[i];
+                met.done[i] |= todo[i];
+            }
+            let store = &self.scene.store;
+            let mut from = *self.packet;
+            while todo.iter().any(|&t| t) {
+                let mut hits = PacketHits::new(&from);
+                store.intersect_bounded_packet(id, &from, &todo, &mut hits, &mut self.cost);
+                for i in 0..N {
+                    if !todo[i] {
+                        continue;
+                    }
+                    let Some(h) = hits.hit[i] else {
+                        todo[i] = false;
+                        continue;
+                    };
+                    met.share[i] *= self.scene.material(store.material(&h)).kt;
+                    if met.share[i] == 0.0 {
+                        // Blocked: the lane's walk is over.
+                        self.bound[i] = f32::NEG_INFINITY;
+                        todo[i] = false;
+                    } else {
+                        from.t_min[i] = h.t;
+                    }
+                }
+            }
+        }
+    }
+    let mut pass = [0.0f32; N];
+    let mut open = [false; N];
+    for i in 0..N {
+        if packet.active[i] {
+            pass[i] = planes_transmittance(scene, &packet.ray(i), packet.t_max[i], cost);
+            open[i] = pass[i] != 0.0;
+        }
+    }
+    let alone = |pass: &mut [f32; N], cost: &mut TraversalCost| {
+        for i in 0..N {
+            if open[i] {
+                pass[i] = transmittance_tallied(scene, &packet.ray(i), packet.t_max[i], cost);
+            }
+        }
+    };
+    if origin_spread(packet, &open) > 2.0 * scene.grid.cell_size.max_element() {
+        alone(&mut pass, cost);
+        return pass;
+    }
+    let bound = std::array::from_fn(|i| if open[i] { packet.t_max[i] } else { f32::NEG_INFINITY });
+    let mut sink = Shares { scene, packet, bound, met: Vec::new(), cost: TraversalCost::default() };
+    let mut cells = 0;
+    let walked = coherent_walk(&scene.grid, packet, &open, &mut sink, &mut cells);
+    let Shares { bound, mut met, cost: tested, .. } = sink;
+    cost.cells += cells + tested.cells;
+    cost.tests += tested.tests;
+    if walked.is_none() {
+        // The shares found so far cover only part of each lane's way: start again, alone.
+        alone(&mut pass, cost);
+        return pass;
+    }
+    met.sort_unstable_by_key(|m| m.id);
+    let mut shares = Vec::with_capacity(met.len());
+    for i in 0..N {
+        if !open[i] {
+            continue;
+        }
+        if bound[i] == f32::NEG_INFINITY {
+            pass[i] = 0.0;
+            continue;
+        }
+        shares.clear();
+        shares.extend(met.iter().filter(|m| m.done[i]).map(|m| (m.id, m.share[i])));
+        pass[i] = ordered_product(pass[i], &mut shares);
+    }
+    pass
 }
 
 /// The largest extent of the box around the `live` lanes' origins.

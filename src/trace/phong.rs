@@ -5,7 +5,7 @@
 use super::integrator::{transmittance_tallied, EffectSamples, PathContext};
 use super::light::Light;
 use super::material::Material;
-use super::packet::{occluded, LANES};
+use super::packet::{shadow_passes, LANES, MIN_LANES};
 use super::scene::TraceScene;
 use crate::math::{reflect, Ray, RayPacket, Vec3, SHADOW_EPSILON};
 use crate::simd::SimdLevel;
@@ -87,7 +87,7 @@ fn area_light<S: PrimitiveStore>(
     let samples = ctx.effect_samples(light.samples());
     // Each sample stands for `1 / count` of the light as this camera sample sees it.
     let share = 1.0 / samples.taken() as f32;
-    if let (Some(level), false) = (ctx.packets, scene.effects.transmission) {
+    if let Some(level) = ctx.packets.filter(|_| samples.taken() as usize >= MIN_LANES) {
         return area_light_packets(scene, light, m, s, view, samples, share, level, ctx);
     }
     let mut colour = Vec3::ZERO;
@@ -144,15 +144,15 @@ fn area_light_packets<S: PrimitiveStore>(
         }
         ctx.rays.area_shadow += lanes as u64;
         let mut cost = TraversalCost::default();
-        let blocked = level.run(
+        let pass = level.run(
             #[inline(always)]
-            || occluded(scene, &packet, &mut cost),
+            || shadow_passes(scene, &packet, &mut cost),
         );
         let each = cost.per_ray(lanes as u32);
         for (lane, &(to_light, radiance, n_dot_l)) in lit.iter().enumerate().take(lanes) {
             ctx.rays.traversal.record(each);
-            if !blocked[lane] {
-                colour += radiance * (1.0 * share) * phong(m, s.normal, view, to_light, n_dot_l);
+            if pass[lane] > 0.0 {
+                colour += radiance * (pass[lane] * share) * phong(m, s.normal, view, to_light, n_dot_l);
             }
         }
     }

@@ -24,7 +24,7 @@ use super::finite::{DropTally, SampleMean};
 use super::integrator::{
     radiance, radiance_at, CameraSample, PathContext, ShadowHint, DEFAULT_MAX_SECONDARY_RAYS, HINTED_LIGHTS,
 };
-use super::packet::{closest_hits, occluded, LANES};
+use super::packet::{closest_hits, shadow_passes, LANES, MIN_LANES};
 use super::scene::TraceScene;
 use super::stats::{AdaptiveCounts, BudgetStats, GridStats, MeshGridStats, RayCounts, RenderStats};
 use crate::film::{AovSet, Aovs, Film};
@@ -413,10 +413,7 @@ fn packet_tile<S: PrimitiveStore>(
                     || closest_hits(scene, &packet, &mut cost),
                 );
                 let lane_cost = cost.per_ray(cameras.iter().flatten().count() as u32);
-                let hints = match scene.effects.transmission {
-                    false => point_light_shadows(scene, &packet, &hits.hit, level, rays),
-                    true => [None; LANES],
-                };
+                let hints = point_light_shadows(scene, &packet, &hits.hit, level, rays);
                 for (lane, camera) in cameras.iter().enumerate() {
                     if let Some(camera) = *camera {
                         let mut ctx = PathContext::new(settings, camera, rays);
@@ -447,7 +444,7 @@ fn packet_tile<S: PrimitiveStore>(
 /// The shadow rays from a packet's camera hits towards each of the first [`HINTED_LIGHTS`]
 /// point or directional lights, traced as one packet per light (a common end point, or a
 /// common direction): per lane, the transmittance [`super::phong::direct_light`] would find,
-/// computed from the same surface point, normal and offset origin. Only for opaque scenes.
+/// computed from the same surface point, normal and offset origin.
 fn point_light_shadows<S: PrimitiveStore>(
     scene: &TraceScene<S>,
     packet: &RayPacket<LANES>,
@@ -481,20 +478,21 @@ fn point_light_shadows<S: PrimitiveStore>(
             shadow.set(lane, &Ray::new(above, to_light), 0.0, dist * (1.0 - SHADOW_EPSILON));
             lanes += 1;
         }
-        if lanes == 0 {
+        if (lanes as usize) < MIN_LANES {
+            // Too few to pay for a packet: `direct_light` traces them alone.
             continue;
         }
         let mut cost = TraversalCost::default();
-        let blocked = level.run(
+        let pass = level.run(
             #[inline(always)]
-            || occluded(scene, &shadow, &mut cost),
+            || shadow_passes(scene, &shadow, &mut cost),
         );
         let each = cost.per_ray(lanes);
         for lane in 0..LANES {
             if shadow.active[lane] {
                 rays.traversal.record(each);
                 let hint = hints[lane].get_or_insert([None; HINTED_LIGHTS]);
-                hint[j] = Some(if blocked[lane] { 0.0 } else { 1.0 });
+                hint[j] = Some(pass[lane]);
             }
         }
     }
