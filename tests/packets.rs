@@ -478,4 +478,77 @@ proptest! {
             prop_assert_eq!(got.to_vec(), want.clone(), "at {}", level);
         }
     }
+
+    /// The lane-wise box kernel equals [`cuboid::intersect`] bit for bit on every lane (the `t`,
+    /// the face and its sign), at every SIMD level: rotated and scaled boxes, and axis-aligned
+    /// ones hit by axis-parallel rays lying in a face plane, along an edge or through a corner
+    /// (±0.0 components), from outside and inside, with finite ranges.
+    #[test]
+    fn the_box_lane_kernel_equals_the_scalar_kernel_bit_for_bit(
+        turned in any::<bool>(),
+        angle in 0.0f32..6.3,
+        axis in common::strategies::point(1.0),
+        scale in common::strategies::point(1.0),
+        centre in common::strategies::point(20.0),
+        half in common::strategies::point(3.0),
+        aims in proptest::collection::vec(
+            (common::strategies::point(1.2), common::strategies::point(1.0), 0u8..4, 0usize..3, any::<bool>()),
+            8,
+        ),
+    ) {
+        use penumbra::geom::cuboid;
+        let half = half.abs() + Vec3::splat(0.01);
+        let (min, max) = (-half, half);
+        let to_world = if turned {
+            Affine3A::from_scale_rotation_translation(
+                scale.abs() + Vec3::splat(0.2),
+                Quat::from_axis_angle(axis.normalize_or(Vec3::Y), angle),
+                centre,
+            )
+        } else {
+            Affine3A::from_translation(centre)
+        };
+        let to_object = to_world.inverse();
+        let mut p = RayPacket::<8>::default();
+        for (i, (aim, from, snap, k, negative_zero)) in aims.iter().enumerate() {
+            // Aim at a point of the box (snapped onto a face, an edge or a corner by `snap`).
+            let mut target = *aim * half;
+            for r in 0..usize::from(*snap).min(3) {
+                let r = (k + r) % 3;
+                target[r] = if aim[r] < 0.0 { min[r] } else { max[r] };
+            }
+            let (origin, dir) = if !turned && i % 2 == 0 {
+                // Axis-parallel along axis k, from outside or inside, lying in face planes where
+                // the target was snapped.
+                let mut d = Vec3::ZERO;
+                d[*k] = if from[*k] < 0.0 { -1.0 } else { 1.0 };
+                if *negative_zero {
+                    d = d.map(|c| if c == 0.0 { -0.0 } else { c });
+                }
+                let mut o = target;
+                o[*k] -= d[*k] * (half[*k] * 3.0 * from.x.abs());
+                (to_world.transform_point3(o), d)
+            } else {
+                let o = to_world.transform_point3(target + *from * half * 4.0);
+                (o, (to_world.transform_point3(target) - o).normalize_or(Vec3::X))
+            };
+            let t_min = if i == 5 { 0.25 } else { 0.0 };
+            let t_max = if i == 6 { 1.5 } else { f32::INFINITY };
+            p.set(i, &Ray::new(origin, dir), t_min, t_max);
+        }
+        let live = [true; 8];
+        let face = |h: cuboid::CuboidHit| (h.t.to_bits(), h.local_normal.to_array().map(f32::to_bits));
+        let want: Vec<_> = (0..8)
+            .map(|i| cuboid::intersect(&to_object, min, max, &p.ray(i), p.t_min[i], p.t_max[i]).map(face))
+            .collect();
+        for level in SimdLevel::ALL {
+            let got = level.run(#[inline(always)] || {
+                let mut bound = p.t_max;
+                let mut got = [None; 8];
+                cuboid::intersect_lanes(&to_object, min, max, &p, &live, &mut bound, |i, h| got[i] = Some(face(h)));
+                got
+            });
+            prop_assert_eq!(got.to_vec(), want.clone(), "at {}", level);
+        }
+    }
 }

@@ -75,6 +75,94 @@ pub fn intersect(
     Some(CuboidHit { t, local_normal })
 }
 
+/// [`intersect`] for the `live` lanes of a packet at once, each within `(t_min, bound)`: the same
+/// IEEE operations in the same order as the scalar test, lane-wise and without branches (the
+/// world-to-object map as glam applies it, `((x·p_x + y·p_y) + z·p_z) + w`; the slab test's
+/// selects as glam's `min`/`max`), so every lane's hit has the scalar hit's bits. A lane's hit
+/// lowers its `bound` and is passed to `record(lane, hit)`.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
+pub fn intersect_lanes<const N: usize>(
+    world_to_object: &Affine3A,
+    min: Vec3,
+    max: Vec3,
+    packet: &crate::math::RayPacket<N>,
+    live: &[bool; N],
+    bound: &mut [f32; N],
+    mut record: impl FnMut(usize, CuboidHit),
+) {
+    let m = world_to_object.matrix3;
+    let cols = [Vec3::from(m.x_axis), Vec3::from(m.y_axis), Vec3::from(m.z_axis)];
+    let w = Vec3::from(world_to_object.translation);
+    let (lo, hi) = (min.to_array(), max.to_array());
+    let sel_max = |a: f32, b: f32| if a > b { a } else { b };
+    let sel_min = |a: f32, b: f32| if a < b { a } else { b };
+    let mut found = [f32::NAN; N];
+    let mut face = [0u8; N];
+    for i in 0..N {
+        let p = [packet.origin[0][i], packet.origin[1][i], packet.origin[2][i]];
+        let v = [packet.dir[0][i], packet.dir[1][i], packet.dir[2][i]];
+        let mut near = [0.0f32; 3];
+        let mut far = [0.0f32; 3];
+        let mut d = [0.0f32; 3];
+        let (mut outside, mut all_still) = (false, true);
+        for r in 0..3 {
+            let o = ((cols[0][r] * p[0] + cols[1][r] * p[1]) + cols[2][r] * p[2]) + w[r];
+            d[r] = (cols[0][r] * v[0] + cols[1][r] * v[1]) + cols[2][r] * v[2];
+            let still = d[r].abs() < f32::MIN_POSITIVE;
+            outside |= still & ((o < lo[r]) | (o > hi[r]));
+            all_still &= still;
+            let inv = if still { 1.0 } else { 1.0 / d[r] };
+            let (a, b) = ((lo[r] - o) * inv, (hi[r] - o) * inv);
+            near[r] = if still { f32::NEG_INFINITY } else { sel_min(a, b) };
+            far[r] = if still { f32::INFINITY } else { sel_max(a, b) };
+        }
+        let t_near = sel_max(near[0], sel_max(near[1], near[2]));
+        let t_far = sel_min(far[0], sel_min(far[1], far[2]));
+        let first = |v: [f32; 3], t: f32| {
+            if v[0] == t {
+                0
+            } else if v[1] == t {
+                1
+            } else {
+                2
+            }
+        };
+        let (t_min, t_max) = (packet.t_min[i], bound[i]);
+        let enter = (t_near > t_min) & (t_near < t_max);
+        let leave = (t_far > t_min) & (t_far < t_max);
+        let axis = if enter { first(near, t_near) } else { first(far, t_far) };
+        let d_axis = if axis == 0 {
+            d[0]
+        } else if axis == 1 {
+            d[1]
+        } else {
+            d[2]
+        };
+        // Entering through a face means moving against its outward normal.
+        let negative = if enter { d_axis > 0.0 } else { d_axis < 0.0 };
+        let apart = t_near > t_far;
+        let hit = live[i] & !outside & !all_still & !apart & (enter | leave);
+        found[i] = if !hit {
+            f32::NAN
+        } else if enter {
+            t_near
+        } else {
+            t_far
+        };
+        face[i] = axis | (u8::from(negative) << 2);
+    }
+    for i in 0..N {
+        if !found[i].is_nan() {
+            bound[i] = found[i];
+            let axis = (face[i] & 3) as usize;
+            let mut local_normal = Vec3::ZERO;
+            local_normal[axis] = if face[i] & 4 != 0 { -1.0 } else { 1.0 };
+            record(i, CuboidHit { t: found[i], local_normal });
+        }
+    }
+}
+
 /// World-space unit normal from an object-space one (inverse transpose of the object-to-world map).
 #[inline]
 pub fn world_normal(world_to_object: &Affine3A, local_normal: Vec3) -> Vec3 {

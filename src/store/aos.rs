@@ -197,7 +197,9 @@ impl PrimitiveStore for AosStore {
             AosShape::Sphere { centre, radius } => {
                 packet::sphere_hits(*centre, *radius, id, packet, live, hits, cost)
             }
-            AosShape::Cuboid { .. } => packet::lane_by_lane(self, id, packet, live, hits, cost),
+            AosShape::Cuboid { to_object, min, max } => {
+                packet::cuboid_hits(to_object, *min, *max, id, packet, live, hits, cost)
+            }
         }
     }
 
@@ -221,7 +223,9 @@ impl PrimitiveStore for AosStore {
             AosShape::Sphere { centre, radius } => {
                 packet::sphere_occluded(*centre, *radius, packet, live, occluded, cost)
             }
-            AosShape::Cuboid { .. } => packet::occluded_lane_by_lane(self, id, packet, live, occluded, cost),
+            AosShape::Cuboid { to_object, min, max } => {
+                packet::cuboid_occluded(to_object, *min, *max, packet, live, occluded, cost)
+            }
         }
     }
 

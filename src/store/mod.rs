@@ -272,18 +272,23 @@ pub(crate) fn cuboid_hit(
     t_min: f32,
     t_max: f32,
 ) -> Option<Hit> {
-    crate::geom::cuboid::intersect(to_object, min, max, ray, t_min, t_max).map(|h| {
-        let n = h.local_normal;
-        let axis = if n.x != 0.0 {
-            0
-        } else if n.y != 0.0 {
-            1
-        } else {
-            2
-        };
-        let negative = (n[axis] < 0.0) as u32;
-        Hit::new(h.t, object, axis as u32 | negative << 2)
-    })
+    crate::geom::cuboid::intersect(to_object, min, max, ray, t_min, t_max)
+        .map(|h| cuboid_face_hit(object, &h))
+}
+
+/// A box hit as a [`Hit`]: the face (axis and sign of its normal) encoded in `prim`.
+#[inline]
+pub(crate) fn cuboid_face_hit(object: u32, h: &crate::geom::cuboid::CuboidHit) -> Hit {
+    let n = h.local_normal;
+    let axis = if n.x != 0.0 {
+        0
+    } else if n.y != 0.0 {
+        1
+    } else {
+        2
+    };
+    let negative = (n[axis] < 0.0) as u32;
+    Hit::new(h.t, object, axis as u32 | negative << 2)
 }
 
 /// The object-space outward normal of the box face encoded by [`cuboid_hit`].

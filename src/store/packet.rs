@@ -256,6 +256,45 @@ pub fn sphere_occluded<const N: usize>(
     crate::geom::sphere::intersect_lanes(centre, radius, packet, live, &mut bound, |i, _| occluded[i] = true);
 }
 
+/// Each `live` lane's nearest hit with box `object` (its world-to-object map and corners), all
+/// lanes in one kernel.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn cuboid_hits<const N: usize>(
+    to_object: &crate::math::Affine3A,
+    min: crate::math::Vec3,
+    max: crate::math::Vec3,
+    object: u32,
+    packet: &RayPacket<N>,
+    live: &[bool; N],
+    hits: &mut PacketHits<N>,
+    cost: &mut TraversalCost,
+) {
+    cost.tests += lanes(live);
+    let found = &mut hits.hit;
+    crate::geom::cuboid::intersect_lanes(to_object, min, max, packet, live, &mut hits.t, |i, h| {
+        found[i] = Some(super::cuboid_face_hit(object, &h))
+    });
+}
+
+/// Marks the `live` lanes that a box blocks in `occluded`, all lanes in one kernel.
+#[inline(always)]
+pub fn cuboid_occluded<const N: usize>(
+    to_object: &crate::math::Affine3A,
+    min: crate::math::Vec3,
+    max: crate::math::Vec3,
+    packet: &RayPacket<N>,
+    live: &[bool; N],
+    occluded: &mut [bool; N],
+    cost: &mut TraversalCost,
+) {
+    cost.tests += lanes(live);
+    let mut bound = packet.t_max;
+    crate::geom::cuboid::intersect_lanes(to_object, min, max, packet, live, &mut bound, |i, _| {
+        occluded[i] = true
+    });
+}
+
 /// Number of `live` lanes: one primitive test each.
 #[inline(always)]
 fn lanes<const N: usize>(live: &[bool; N]) -> u32 {

@@ -304,7 +304,11 @@ impl PrimitiveStore for SoaStore {
                 let i = first as usize;
                 packet::sphere_hits(self.centre.get(i), self.radius[i], id, packet, live, hits, cost)
             }
-            Kind::Cuboid => packet::lane_by_lane(self, id, packet, live, hits, cost),
+            Kind::Cuboid => {
+                let i = first as usize;
+                let (min, max) = (self.box_min.get(i), self.box_max.get(i));
+                packet::cuboid_hits(&self.box_to_object.get(i), min, max, id, packet, live, hits, cost)
+            }
         }
     }
 
@@ -339,7 +343,11 @@ impl PrimitiveStore for SoaStore {
                 let i = first as usize;
                 packet::sphere_occluded(self.centre.get(i), self.radius[i], packet, live, occluded, cost)
             }
-            Kind::Cuboid => packet::occluded_lane_by_lane(self, id, packet, live, occluded, cost),
+            Kind::Cuboid => {
+                let i = first as usize;
+                let (min, max) = (self.box_min.get(i), self.box_max.get(i));
+                packet::cuboid_occluded(&self.box_to_object.get(i), min, max, packet, live, occluded, cost)
+            }
         }
     }
 
