@@ -11,6 +11,7 @@
 //! at any level, or by the single-ray reference path (`scalar`), is the same bits: a cluster of
 //! mixed CPUs renders one sequence.
 
+use std::cell::Cell;
 use std::fmt;
 use std::str::FromStr;
 
@@ -31,13 +32,50 @@ pub enum SimdLevel {
     Avx512,
 }
 
+thread_local! {
+    /// The level of this thread's single-ray kernels (see [`single_ray_level`]).
+    static SINGLE_RAY: Cell<SimdLevel> = const { Cell::new(SimdLevel::Auto) };
+}
+
+/// The level at which single rays run their SIMD kernels on this thread (one ray against a grid
+/// cell's triangles at once: [`crate::geom::triangle::nearest_in_block`]): resolved, `Scalar`
+/// for one primitive at a time. [`SimdLevel::Auto`] unless [`with_single_ray_level`] says
+/// otherwise. The single-ray tracer is reached through many layers of the store; a level
+/// scoped to the thread spares each of them a parameter, and every level gives the same bits.
+#[inline]
+pub fn single_ray_level() -> SimdLevel {
+    match SINGLE_RAY.with(Cell::get) {
+        SimdLevel::Auto => SimdLevel::detect(),
+        level => level,
+    }
+}
+
+/// Runs `f` with this thread's single-ray kernels at `level` (resolved), then restores the
+/// previous level; the renderer wraps each tile in it with the frame's `--simd`.
+pub fn with_single_ray_level<R>(level: SimdLevel, f: impl FnOnce() -> R) -> R {
+    struct Restore(SimdLevel);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            SINGLE_RAY.with(|c| c.set(self.0));
+        }
+    }
+    let _restore = Restore(SINGLE_RAY.with(|c| c.replace(level.resolve())));
+    f()
+}
+
 impl SimdLevel {
     /// Every level, in the order they are listed.
     pub const ALL: [SimdLevel; 5] =
         [SimdLevel::Auto, SimdLevel::Scalar, SimdLevel::Baseline, SimdLevel::Avx2, SimdLevel::Avx512];
 
-    /// The best level this CPU supports (checked once per call; cheap).
+    /// The best level this CPU supports (detected once per process).
     pub fn detect() -> SimdLevel {
+        static DETECTED: std::sync::OnceLock<SimdLevel> = std::sync::OnceLock::new();
+        *DETECTED.get_or_init(SimdLevel::probe)
+    }
+
+    /// Asks the CPU for the best level it supports.
+    fn probe() -> SimdLevel {
         #[cfg(target_arch = "x86_64")]
         {
             if pulp::x86::V4::try_new().is_some() {

@@ -231,6 +231,49 @@ fn triangle_case() -> impl Strategy<Value = ([Vec3; 3], Ray)> {
     )
 }
 
+/// Up to eight triangles of a cell: halves of unit lattice squares in three stacked layers (so
+/// neighbours share edges and vertices, and some lie behind others), repeats (equally near), and
+/// now and then a random one; with a ray aimed at a vertex, an edge point or a centroid of one.
+fn block_case() -> impl Strategy<Value = (Vec<[Vec3; 3]>, Ray, f32, f32)> {
+    let lattice = (0i32..3, 0i32..3, 0i32..3, any::<bool>()).prop_map(|(x, y, z, upper)| {
+        let p = |dx: i32, dy: i32| Vec3::new((x + dx) as f32, (y + dy) as f32, z as f32 * 0.5);
+        if upper {
+            [p(1, 1), p(0, 1), p(1, 0)]
+        } else {
+            [p(0, 0), p(1, 0), p(0, 1)]
+        }
+    });
+    let tri = prop_oneof![4 => lattice, 1 => triangle_case().prop_map(|(t, _)| t)];
+    let dir = prop_oneof![
+        (-3i32..4, -3i32..4, 1i32..4).prop_map(|(x, y, z)| Vec3::new(x as f32, y as f32, z as f32)),
+        any::<bool>().prop_map(|negzero| if negzero { Vec3::new(-0.0, -0.0, 1.0) } else { Vec3::Z }),
+        (-1.0f32..1.0, -1.0f32..1.0, 0.1f32..1.0).prop_map(|(x, y, z)| Vec3::new(x, y, z)),
+    ];
+    (
+        proptest::collection::vec(tri, 3..=8),
+        0usize..8,
+        0u8..3,
+        dir,
+        any::<bool>(),
+        prop_oneof![Just(0.0f32), 0.0f32..2.0],
+        prop_oneof![Just(f32::INFINITY), 1.0f32..6.0],
+    )
+        .prop_map(|(mut tris, k, aim, d, repeat, t_min, t_max)| {
+            if repeat {
+                let last = tris.len() - 1;
+                tris[last] = tris[0];
+            }
+            let [a, b, c] = tris[k % tris.len()];
+            let target = match aim {
+                0 => a,
+                1 => a + (b - a) * 0.5,
+                _ => (a + b + c) / 3.0,
+            };
+            let ray = Ray::new(target - d * 2.0, if k % 2 == 0 { d } else { -d });
+            (tris, ray, t_min, t_max)
+        })
+}
+
 /// With transmission, a shadow packet's lanes get the single ray's transmittance bit for bit:
 /// the packet meets the objects in another order than the single ray's walk, so this checks
 /// that both multiply the objects' shares in the same (id) order. Some objects are opaque, the
@@ -476,6 +519,32 @@ proptest! {
                 got
             });
             prop_assert_eq!(got.to_vec(), want.clone(), "at {}", level);
+        }
+    }
+
+    /// One ray against a cell's triangles at once ([`triangle::nearest_in_block`]) finds what
+    /// testing them one by one in order finds (the same triangle, the first of equally near ones,
+    /// and the same bits), at every SIMD level: shared edges and vertices hit exactly, repeats,
+    /// ±0.0 components, finite ranges.
+    #[test]
+    fn one_ray_against_a_block_of_triangles_equals_testing_them_in_order((tris, ray, t_min, t_max) in block_case()) {
+        let w = WatertightRay::new(&ray);
+        let mut want = None;
+        let mut bound = t_max;
+        for (k, [a, b, c]) in tris.iter().enumerate() {
+            if let Some(h) = triangle::intersect(*a, *b, *c, &w, t_min, bound) {
+                bound = h.t;
+                want = Some((k, h.t.to_bits(), h.u.to_bits(), h.v.to_bits()));
+            }
+        }
+        for level in SimdLevel::ALL {
+            let got = level.run(#[inline(always)] || {
+                let vertices = |k: usize| tris[k];
+                let block = triangle::TriangleBlock::<8>::gather(&w, tris.len(), vertices);
+                triangle::nearest_in_block(&block, &w, t_min, t_max, vertices)
+                    .map(|(k, h)| (k, h.t.to_bits(), h.u.to_bits(), h.v.to_bits()))
+            });
+            prop_assert_eq!(got, want, "at {}", level);
         }
     }
 

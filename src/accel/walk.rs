@@ -27,6 +27,30 @@ pub fn nearest<H, T: Tally>(
     tally: &mut T,
     mut test: impl FnMut(u32, f32, &mut T) -> Option<(f32, H)>,
 ) -> Option<H> {
+    nearest_by_cell(grid, ray, t_min, t_max, tally, |ids, mut bound, tally| {
+        let mut best = None;
+        for &id in ids {
+            if let Some((t, hit)) = test(id, bound, tally) {
+                bound = t;
+                best = Some((t, hit));
+            }
+        }
+        best
+    })
+}
+
+/// [`nearest`], with `test(ids, bound, tally)` given a whole cell's ids at once: it returns the
+/// nearest hit among them below `bound` (the first of equally near ones, as testing them one by
+/// one in order finds), so a kernel can test many primitives against the ray together.
+#[inline(always)]
+pub fn nearest_by_cell<H, T: Tally>(
+    grid: &UniformGrid,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+    tally: &mut T,
+    mut test: impl FnMut(&[u32], f32, &mut T) -> Option<(f32, H)>,
+) -> Option<H> {
     let mut best = None;
     let mut bound = t_max;
     for span in GridWalk::skipping(grid, ray, t_min, t_max) {
@@ -34,11 +58,9 @@ pub fn nearest<H, T: Tally>(
             break;
         }
         tally.cell();
-        for &id in grid.cell_prims(span.cell) {
-            if let Some((t, hit)) = test(id, bound, tally) {
-                bound = t;
-                best = Some(hit);
-            }
+        if let Some((t, hit)) = test(grid.cell_prims(span.cell), bound, tally) {
+            bound = t;
+            best = Some(hit);
         }
         if bound <= span.t_exit {
             break;
@@ -59,12 +81,23 @@ pub fn any<T: Tally>(
     tally: &mut T,
     mut test: impl FnMut(u32, &mut T) -> bool,
 ) -> bool {
+    any_by_cell(grid, ray, t_min, t_max, tally, |ids, tally| ids.iter().any(|&id| test(id, tally)))
+}
+
+/// [`any`], with `test(ids, tally)` given a whole cell's ids at once.
+#[inline(always)]
+pub fn any_by_cell<T: Tally>(
+    grid: &UniformGrid,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+    tally: &mut T,
+    mut test: impl FnMut(&[u32], &mut T) -> bool,
+) -> bool {
     for span in GridWalk::skipping(grid, ray, t_min, t_max) {
         tally.cell();
-        for &id in grid.cell_prims(span.cell) {
-            if test(id, tally) {
-                return true;
-            }
+        if test(grid.cell_prims(span.cell), tally) {
+            return true;
         }
     }
     false

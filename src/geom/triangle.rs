@@ -209,6 +209,100 @@ pub fn overlaps_box(v0: Vec3, v1: Vec3, v2: Vec3, cell: &Aabb) -> bool {
     true
 }
 
+/// Up to `N` triangles in lane arrays, their coordinates in one ray's permuted axes: the input of
+/// [`nearest_in_block`], where one ray meets many triangles at once (a grid cell's).
+#[derive(Debug, Clone, Copy)]
+pub struct TriangleBlock<const N: usize> {
+    /// `p[vertex][axis][lane]`, axes in the order `kx, ky, kz`.
+    p: [[[f32; N]; 3]; 3],
+    /// Lanes holding a triangle.
+    len: usize,
+}
+
+impl<const N: usize> TriangleBlock<N> {
+    /// Gathers the `len ≤ N` triangles `vertices(0..len)` for `ray`.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
+    pub fn gather(ray: &WatertightRay, len: usize, vertices: impl Fn(usize) -> [Vec3; 3]) -> Self {
+        debug_assert!(len <= N);
+        let mut p = [[[0.0f32; N]; 3]; 3];
+        let perm = ray.permutation();
+        for i in 0..len {
+            let tri = vertices(i);
+            for (j, v) in tri.iter().enumerate() {
+                for (c, &axis) in perm.iter().enumerate() {
+                    p[j][c][i] = v[axis];
+                }
+            }
+        }
+        Self { p, len }
+    }
+}
+
+/// The nearest hit within `(t_min, t_max)` among a block's triangles and its lane: what testing
+/// them one by one in lane order with [`intersect`], each hit lowering the bound, finds (the
+/// first of equally near ones). All lanes run the scalar test's operations lane-wise; a lane
+/// with an edge function exactly 0 is decided by [`intersect`] itself.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
+pub fn nearest_in_block<const N: usize>(
+    block: &TriangleBlock<N>,
+    ray: &WatertightRay,
+    t_min: f32,
+    t_max: f32,
+    vertices: impl Fn(usize) -> [Vec3; 3],
+) -> Option<(usize, TriangleHit)> {
+    let o = ray.permutation().map(|axis| ray.origin[axis]);
+    let (sx, sy, sz) = ray.shear_constants();
+    let mut hit = [false; N];
+    let mut exact = [false; N];
+    let mut t_hit = [0.0f32; N];
+    let mut det_hit = [0.0f32; N];
+    let mut vw = [[0.0f32; N]; 2];
+    let p = &block.p;
+    for i in 0..N {
+        // The scalar kernel's shear: `a = p − o`, then `(a_x − s_x·a_z, a_y − s_y·a_z, s_z·a_z)`.
+        let shear = |j: usize| {
+            let (ax, ay, az) = (p[j][0][i] - o[0], p[j][1][i] - o[1], p[j][2][i] - o[2]);
+            (ax - sx * az, ay - sy * az, sz * az)
+        };
+        let (ax, ay, az) = shear(0);
+        let (bx, by, bz) = shear(1);
+        let (cx, cy, cz) = shear(2);
+        let u = cx * by - cy * bx;
+        let v = ax * cy - ay * cx;
+        let e = bx * ay - by * ax;
+        let live = i < block.len;
+        exact[i] = live & ((u == 0.0) | (v == 0.0) | (e == 0.0));
+        let outside = ((u < 0.0) | (v < 0.0) | (e < 0.0)) & ((u > 0.0) | (v > 0.0) | (e > 0.0));
+        let det = u + v + e;
+        let t = (u * az + v * bz + e * cz) / det;
+        hit[i] = live & !exact[i] & !outside & (det != 0.0) & (t > t_min) & (t < t_max);
+        t_hit[i] = t;
+        det_hit[i] = det;
+        vw[0][i] = v;
+        vw[1][i] = e;
+    }
+    let mut best: Option<(usize, TriangleHit)> = None;
+    let mut bound = t_max;
+    for i in 0..block.len {
+        if hit[i] {
+            if t_hit[i] < bound {
+                let det = det_hit[i];
+                bound = t_hit[i];
+                best = Some((i, TriangleHit { t: t_hit[i], u: vw[0][i] / det, v: vw[1][i] / det }));
+            }
+        } else if exact[i] {
+            let [v0, v1, v2] = vertices(i);
+            if let Some(h) = intersect(v0, v1, v2, ray, t_min, bound) {
+                bound = h.t;
+                best = Some((i, h));
+            }
+        }
+    }
+    best
+}
+
 /// A packet prepared for watertight triangle tests: the lanes' shear constants, and the axis
 /// permutation when all live lanes share it (else each lane keeps its own [`WatertightRay`]).
 #[derive(Debug, Clone, Copy)]

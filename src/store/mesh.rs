@@ -12,8 +12,9 @@ use std::time::Instant;
 use super::TriangleLayout;
 use crate::accel::{walk, GridBuilder, Tally, UniformGrid};
 use crate::geom::mesh::MeshData;
-use crate::geom::triangle::{self, TriangleHit, WatertightRay};
+use crate::geom::triangle::{self, nearest_in_block, TriangleBlock, TriangleHit, WatertightRay};
 use crate::math::{gamma, transform_error, Affine3A, Ray, Vec3};
+use crate::simd::SimdLevel;
 
 /// A mesh in object space with its grid: what every instance of the mesh shares.
 #[derive(Debug, Clone)]
@@ -123,8 +124,16 @@ pub fn object_ray(to_object: &Affine3A, ray: &Ray) -> Ray {
     Ray::new(to_object.transform_point3(ray.origin), to_object.transform_vector3(ray.dir))
 }
 
+/// Triangles one ray tests together ([`nearest_in_block`]).
+const BLOCK: usize = 8;
+
+/// Fewest triangles worth a block: fewer are tested one by one.
+const MIN_BLOCK: usize = 3;
+
 /// Nearest triangle hit in `(t_min, t_max)` with its index, walking the mesh grid front to back
-/// ([`walk::nearest`]), adding the cells visited and triangles tested to `cost`.
+/// ([`walk::nearest`]), adding the cells visited and triangles tested to `cost`. A cell's
+/// triangles are tested together, [`BLOCK`] at a time, at this thread's
+/// [`crate::simd::single_ray_level`] (one at a time at `Scalar`); every level finds the same hit.
 #[inline]
 pub fn intersect<L: TriangleLayout, T: Tally>(
     mesh: &MeshEntry<L>,
@@ -134,14 +143,61 @@ pub fn intersect<L: TriangleLayout, T: Tally>(
     cost: &mut T,
 ) -> Option<(u32, TriangleHit)> {
     let wray = WatertightRay::new(ray);
-    walk::nearest(&mesh.asset.grid, ray, t_min, t_max, cost, |i, bound, cost| {
-        cost.tests(1);
-        mesh.triangles.intersect(i, &wray, t_min, bound).map(|h| (h.t, (i, h)))
-    })
+    let grid = &mesh.asset.grid;
+    let level = crate::simd::single_ray_level();
+    if level == SimdLevel::Scalar {
+        return walk::nearest(grid, ray, t_min, t_max, cost, |i, bound, cost| {
+            cost.tests(1);
+            mesh.triangles.intersect(i, &wray, t_min, bound).map(|h| (h.t, (i, h)))
+        });
+    }
+    level.run(
+        #[inline(always)]
+        || {
+            walk::nearest_by_cell(grid, ray, t_min, t_max, cost, |ids, bound, cost| {
+                cost.tests(ids.len() as u32);
+                nearest_in_cell(&mesh.triangles, ids, &wray, t_min, bound).map(|(i, h)| (h.t, (i, h)))
+            })
+        },
+    )
 }
 
-/// True when some triangle is hit in `(t_min, t_max)` (stops at the first), walking the mesh
-/// grid ([`walk::any`]) and adding the cells visited and triangles tested to `cost`.
+/// The nearest hit below `bound` among a cell's triangles `ids`, the first of equally near ones
+/// (as testing them in order finds): blocks of [`BLOCK`] through [`nearest_in_block`], a short
+/// tail one by one.
+#[inline(always)]
+fn nearest_in_cell<L: TriangleLayout>(
+    triangles: &L,
+    ids: &[u32],
+    wray: &WatertightRay,
+    t_min: f32,
+    mut bound: f32,
+) -> Option<(u32, TriangleHit)> {
+    let mut best = None;
+    for chunk in ids.chunks(BLOCK) {
+        if chunk.len() < MIN_BLOCK {
+            for &i in chunk {
+                if let Some(h) = triangles.intersect(i, wray, t_min, bound) {
+                    bound = h.t;
+                    best = Some((i, h));
+                }
+            }
+            continue;
+        }
+        let vertices = |k: usize| triangles.vertices(chunk[k]);
+        let block = TriangleBlock::<BLOCK>::gather(wray, chunk.len(), vertices);
+        if let Some((k, h)) = nearest_in_block(&block, wray, t_min, bound, vertices) {
+            bound = h.t;
+            best = Some((chunk[k], h));
+        }
+    }
+    best
+}
+
+/// True when some triangle is hit in `(t_min, t_max)` (stops at the first cell with one),
+/// walking the mesh grid ([`walk::any`]) and adding the cells visited and triangles tested to
+/// `cost`; a cell's triangles are tested together at this thread's
+/// [`crate::simd::single_ray_level`].
 #[inline]
 pub fn occluded<L: TriangleLayout, T: Tally>(
     mesh: &MeshEntry<L>,
@@ -151,10 +207,23 @@ pub fn occluded<L: TriangleLayout, T: Tally>(
     cost: &mut T,
 ) -> bool {
     let wray = WatertightRay::new(ray);
-    walk::any(&mesh.asset.grid, ray, t_min, t_max, cost, |i, cost| {
-        cost.tests(1);
-        mesh.triangles.intersect(i, &wray, t_min, t_max).is_some()
-    })
+    let grid = &mesh.asset.grid;
+    let level = crate::simd::single_ray_level();
+    if level == SimdLevel::Scalar {
+        return walk::any(grid, ray, t_min, t_max, cost, |i, cost| {
+            cost.tests(1);
+            mesh.triangles.intersect(i, &wray, t_min, t_max).is_some()
+        });
+    }
+    level.run(
+        #[inline(always)]
+        || {
+            walk::any_by_cell(grid, ray, t_min, t_max, cost, |ids, cost| {
+                cost.tests(ids.len() as u32);
+                nearest_in_cell(&mesh.triangles, ids, &wray, t_min, t_max).is_some()
+            })
+        },
+    )
 }
 
 /// Nearest triangle hit by testing every triangle: the reference for the mesh grid.

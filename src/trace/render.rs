@@ -270,7 +270,9 @@ where
             let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
             let mut rays = RayCounts::default();
             let mut out = TileOut { pixels: Vec::with_capacity((TILE * TILE) as usize), costs: Vec::new() };
-            shade([x0, y0, x1, y1], &mut rays, &mut out);
+            crate::simd::with_single_ray_level(settings.simd, || {
+                shade([x0, y0, x1, y1], &mut rays, &mut out)
+            });
             debug_assert_eq!(out.pixels.len() as u32, (x1 - x0) * (y1 - y0), "one entry per pixel");
             let mut dropped = DropTally::default();
             let tw = x1 - x0;
@@ -537,7 +539,9 @@ fn render_adaptive<S: PrimitiveStore>(
 ) -> (Assembled, AdaptiveCounts) {
     let (w, h) = (settings.width, settings.height);
     let res = adaptive.resolution();
-    let point = |p: LatticePoint, rays: &mut RayCounts| lattice_sample(scene, settings, res, p, rays);
+    let point = |p: LatticePoint, rays: &mut RayCounts| {
+        crate::simd::with_single_ray_level(settings.simd, || lattice_sample(scene, settings, res, p, rays))
+    };
 
     // Pass 1: the corner lattice, rows in parallel, with each corner's ray count.
     let rows: Vec<(Vec<Vec3>, Vec<u32>, RayCounts)> = (0..=h)
