@@ -10,7 +10,7 @@ use crate::math::{reflect, refract, Ray, Vec2, Vec3};
 use crate::sample::pattern::square_point;
 use crate::sample::rng::{hash, permute, uniform2, SampleKey, SampleStream};
 use crate::sample::warp::cone;
-use crate::store::{Hit, NoTally, PrimitiveStore, Tally, TraversalCost};
+use crate::store::{Hit, NoTally, PrimitiveStore, SurfacePoint, Tally, TraversalCost};
 
 /// Nearest hit in `(t_min, t_max)`: planes first, then the grid's cells front to back.
 ///
@@ -303,6 +303,10 @@ pub struct PathContext<'a> {
     /// the next shading point, already traced in a packet with its neighbours' (camera hits and
     /// point or directional lights); taken by the first [`super::phong::direct_light`].
     pub shadow_hint: Option<ShadowHint>,
+    /// The next shading point's surface, already found by a packet tracer that needed it
+    /// (for the shadow rays of [`PathContext::shadow_hint`]); taken by the first
+    /// [`radiance_at`], which would compute the same.
+    pub surface_hint: Option<SurfacePoint>,
 }
 
 /// Lights whose shadow rays from camera hits are traced in packets.
@@ -348,6 +352,7 @@ impl<'a> PathContext<'a> {
             rays,
             packets: settings.simd.packets().then(|| settings.simd.resolve()),
             shadow_hint: None,
+            surface_hint: None,
         }
     }
 
@@ -456,7 +461,10 @@ pub fn radiance_at<S: PrimitiveStore>(
     let Some(hit) = found else {
         return scene.background;
     };
-    let sp = scene.store.surface(&hit, ray);
+    let sp = match ctx.surface_hint.take() {
+        Some(sp) => sp,
+        None => scene.store.surface(&hit, ray),
+    };
     let m = *scene.material(sp.material);
     // Shade the side the ray arrives on: `n` is the geometric normal on that side (it decides
     // offsets and sides), `ns` the shading normal there, unless it would face away from the

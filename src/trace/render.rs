@@ -35,7 +35,7 @@ use crate::sample::rng::{hash, permute, uniform2, SampleKey};
 use crate::sample::warp::tent;
 use crate::sample::{Filter, Pattern};
 use crate::simd::SimdLevel;
-use crate::store::{MeshEntry, PrimitiveStore, TraversalCost};
+use crate::store::{MeshEntry, PrimitiveStore, SurfacePoint, TraversalCost};
 
 /// Edge length of a square render tile in pixels.
 pub const TILE: u32 = 16;
@@ -415,11 +415,17 @@ fn packet_tile<S: PrimitiveStore>(
                     || closest_hits(scene, &packet, &mut cost),
                 );
                 let lane_cost = cost.per_ray(cameras.iter().flatten().count() as u32);
-                let hints = point_light_shadows(scene, &packet, &hits.hit, level, rays);
+                // Each hit's surface, found once: the shadow packets start from it, and so does
+                // the lane's shading.
+                let surfaces: [Option<SurfacePoint>; LANES] = std::array::from_fn(|lane| {
+                    hits.hit[lane].map(|hit| scene.store.surface(&hit, &packet.ray(lane)))
+                });
+                let hints = point_light_shadows(scene, &packet, &surfaces, level, rays);
                 for (lane, camera) in cameras.iter().enumerate() {
                     if let Some(camera) = *camera {
                         let mut ctx = PathContext::new(settings, camera, rays);
                         ctx.shadow_hint = hints[lane];
+                        ctx.surface_hint = surfaces[lane];
                         let ray = packet.ray(lane);
                         means[lane].add(radiance_at(
                             scene,
@@ -446,11 +452,12 @@ fn packet_tile<S: PrimitiveStore>(
 /// The shadow rays from a packet's camera hits towards each of the first [`HINTED_LIGHTS`]
 /// point or directional lights, traced as one packet per light (a common end point, or a
 /// common direction): per lane, the transmittance [`super::phong::direct_light`] would find,
-/// computed from the same surface point, normal and offset origin.
+/// computed from the same surface point (`surfaces`: each camera hit's), normal and offset
+/// origin.
 fn point_light_shadows<S: PrimitiveStore>(
     scene: &TraceScene<S>,
     packet: &RayPacket<LANES>,
-    hits: &[Option<crate::store::Hit>; LANES],
+    surfaces: &[Option<SurfacePoint>; LANES],
     level: SimdLevel,
     rays: &mut RayCounts,
 ) -> [Option<ShadowHint>; LANES] {
@@ -462,10 +469,8 @@ fn point_light_shadows<S: PrimitiveStore>(
     // What `radiance_at` computes for each lane's shading point: the point, the shading normal
     // on the arrival side, and the offset origin of rays leaving on that side.
     let surfaces: [Option<(Vec3, Vec3, Vec3)>; LANES] = std::array::from_fn(|lane| {
-        let hit = hits[lane]?;
-        let ray = packet.ray(lane);
-        let sp = scene.store.surface(&hit, &ray);
-        let (_, n, ns) = super::integrator::facing_normals(&sp, ray.dir);
+        let sp = surfaces[lane]?;
+        let (_, n, ns) = super::integrator::facing_normals(&sp, packet.ray(lane).dir);
         Some((sp.point, ns, sp.spawn(n)))
     });
     for (j, light) in lights {
