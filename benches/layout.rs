@@ -8,9 +8,11 @@
 //! camera ray per pixel of a 640×480 image, and one shadow ray per hit towards the point light
 //! (ANCHORS' 0.31 M + ~0.30 M), traced on both cores: as SoA packets at the best SIMD level
 //! this CPU has (camera rays in 4×4 pixel blocks, shadow rays 16 consecutive hits towards the
-//! light), and as single rays through the SoA and AoS stores. Groups `layout_primary` and
-//! `layout_shadow`, ids `packets/SCENE`, `soa/SCENE` and `aos/SCENE`; then a table of medians
-//! with the ratios against AoS single rays.
+//! light); as single rays through the SoA store with the single-ray SIMD kernels (one ray
+//! against a mesh cell's triangles, 8 at a time, at the best level); and as single rays through
+//! the SoA and AoS stores with scalar kernels (one primitive at a time). Groups
+//! `layout_primary` and `layout_shadow`, ids `packets/SCENE`, `soa_simd/SCENE`, `soa/SCENE` and
+//! `aos/SCENE`; then a table of medians with the ratios against AoS scalar single rays.
 //!
 //! Run: `cargo bench --bench layout`.
 
@@ -21,7 +23,8 @@ mod harness;
 use criterion::{BenchmarkId, Criterion, Throughput};
 use glam::{DAffine3, DVec3};
 use harness::rays::{
-    median, mrays, ray_set, trace_primary, trace_primary_packets, trace_shadow, trace_shadow_packets, RaySet,
+    median, mrays, ray_set, trace_primary_at, trace_primary_packets, trace_shadow_at, trace_shadow_packets,
+    RaySet,
 };
 use penumbra::camera::Camera;
 use penumbra::geom::Shape;
@@ -97,7 +100,7 @@ fn cases() -> Vec<Case> {
 }
 
 fn groups(c: &mut Criterion, cases: &[Case]) {
-    type Kernel<S, R> = fn(&TraceScene<S>, &[R]) -> usize;
+    type Kernel<S, R> = fn(&TraceScene<S>, &[R], SimdLevel) -> usize;
     let level = SimdLevel::Auto.resolve();
     fn group<R>(
         c: &mut Criterion,
@@ -113,8 +116,15 @@ fn groups(c: &mut Criterion, cases: &[Case]) {
             let r = rays(case);
             group.throughput(Throughput::Elements(r.len() as u64));
             group.bench_function(BenchmarkId::new("packets", case.name), |b| b.iter(|| packets(case, r)));
-            group.bench_function(BenchmarkId::new("soa", case.name), |b| b.iter(|| soa(&case.soa, r)));
-            group.bench_function(BenchmarkId::new("aos", case.name), |b| b.iter(|| aos(&case.aos, r)));
+            group.bench_function(BenchmarkId::new("soa_simd", case.name), |b| {
+                b.iter(|| soa(&case.soa, r, SimdLevel::Auto))
+            });
+            group.bench_function(BenchmarkId::new("soa", case.name), |b| {
+                b.iter(|| soa(&case.soa, r, SimdLevel::Scalar))
+            });
+            group.bench_function(BenchmarkId::new("aos", case.name), |b| {
+                b.iter(|| aos(&case.aos, r, SimdLevel::Scalar))
+            });
         }
         group.finish();
     }
@@ -122,52 +132,71 @@ fn groups(c: &mut Criterion, cases: &[Case]) {
     let shadow_packets = |k: &Case, r: &[(penumbra::math::Ray, f32)]| {
         trace_shadow_packets(&k.soa, r, &k.rays.shadow_block, level)
     };
-    group(c, "layout_primary", cases, |k| &k.rays.primary, primary_packets, trace_primary, trace_primary);
-    group(c, "layout_shadow", cases, |k| &k.rays.shadow, shadow_packets, trace_shadow, trace_shadow);
+    group(
+        c,
+        "layout_primary",
+        cases,
+        |k| &k.rays.primary,
+        primary_packets,
+        trace_primary_at,
+        trace_primary_at,
+    );
+    group(c, "layout_shadow", cases, |k| &k.rays.shadow, shadow_packets, trace_shadow_at, trace_shadow_at);
 }
 
 fn table(cases: &[Case]) {
     let level = SimdLevel::Auto.resolve();
     println!(
         "\nlayout: camera and point-light shadow rays, {W}x{H}, both cores, medians of 7 (Mrays/s); \
-         packets: the rays of 4x4 pixels, SoA, {level}"
+         pkt: SoA packets of 4x4 pixels; simd: SoA single rays, a mesh cell's triangles 8 at a time; \
+         SoA, AoS: single rays, one primitive at a time; all at {level}; ratios against AoS"
     );
     println!(
-        "{:<13} {:>8} {:>8} {:>8} {:>8} {:>8}   {:>8} {:>8} {:>8} {:>8} {:>8}",
+        "{:<13} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7}   {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7}",
         "scene",
         "cam pkt",
+        "cam sim",
         "cam SoA",
         "cam AoS",
-        "pkt/AoS",
-        "SoA/AoS",
+        "pkt/A",
+        "simd/A",
+        "SoA/A",
         "shd pkt",
+        "shd sim",
         "shd SoA",
         "shd AoS",
-        "pkt/AoS",
-        "SoA/AoS"
+        "pkt/A",
+        "simd/A",
+        "SoA/A"
     );
     for case in cases {
         let (p, s) = (&case.rays.primary, &case.rays.shadow);
         // Interleave the variants so drift on a shared machine hits them alike.
         let pp = median(7, || trace_primary_packets(&case.soa, p, W, level));
-        let ps = median(7, || trace_primary(&case.soa, p));
-        let pa = median(7, || trace_primary(&case.aos, p));
+        let pv = median(7, || trace_primary_at(&case.soa, p, SimdLevel::Auto));
+        let ps = median(7, || trace_primary_at(&case.soa, p, SimdLevel::Scalar));
+        let pa = median(7, || trace_primary_at(&case.aos, p, SimdLevel::Scalar));
         let sp = median(7, || trace_shadow_packets(&case.soa, s, &case.rays.shadow_block, level));
-        let ss = median(7, || trace_shadow(&case.soa, s));
-        let sa = median(7, || trace_shadow(&case.aos, s));
+        let sv = median(7, || trace_shadow_at(&case.soa, s, SimdLevel::Auto));
+        let ss = median(7, || trace_shadow_at(&case.soa, s, SimdLevel::Scalar));
+        let sa = median(7, || trace_shadow_at(&case.aos, s, SimdLevel::Scalar));
         let ratio = |a: std::time::Duration, b: std::time::Duration| a.as_secs_f64() / b.as_secs_f64();
         println!(
-            "{:<13} {:>8.2} {:>8.2} {:>8.2} {:>8.3} {:>8.3}   {:>8.2} {:>8.2} {:>8.2} {:>8.3} {:>8.3}",
+            "{:<13} {:>7.2} {:>7.2} {:>7.2} {:>7.2} {:>7.3} {:>7.3} {:>7.3}   {:>7.2} {:>7.2} {:>7.2} {:>7.2} {:>7.3} {:>7.3} {:>7.3}",
             case.name,
             mrays(p.len(), pp),
+            mrays(p.len(), pv),
             mrays(p.len(), ps),
             mrays(p.len(), pa),
             ratio(pa, pp),
+            ratio(pa, pv),
             ratio(pa, ps),
             mrays(s.len(), sp),
+            mrays(s.len(), sv),
             mrays(s.len(), ss),
             mrays(s.len(), sa),
             ratio(sa, sp),
+            ratio(sa, sv),
             ratio(sa, ss),
         );
     }

@@ -146,14 +146,15 @@ def run_embree(python, script, scene, models, threads, reps, output):
 
 
 # scene, then camera rays (packets, SoA, AoS Mrays/s, two ratios), then shadow rays (the same).
-LAYOUT_ROW = re.compile(r"^(\w+)" + r"\s+([\d.]+)" * 10 + r"\s*$")
+LAYOUT_ROW = re.compile(r"^(\w+)" + r"\s+([\d.]+)" * 14 + r"\s*$")
 
 
 def run_layout_bench(repo, threads):
     """Penumbra's own bare throughput: `cargo bench --bench layout`'s table (criterion's groups
     filtered out), as {scene: {"camera": Mrays/s, "shadow": Mrays/s}} for SoA packets at the
-    best SIMD level (what the renderer uses by default), with the single-ray SoA figures beside
-    them as "camera_single" and "shadow_single"."""
+    best SIMD level (what the renderer uses by default), with the single-ray SoA figures (with
+    the single-ray SIMD kernels, as the renderer traces single rays) beside them as
+    "camera_single" and "shadow_single"."""
     env = dict(os.environ, RAYON_NUM_THREADS=str(threads))
     _, stdout, _ = timed(
         ["cargo", "bench", "--bench", "layout", "--", "no_criterion_group_matches_this"], cwd=repo, env=env
@@ -165,8 +166,8 @@ def run_layout_bench(repo, threads):
             rows[found.group(1)] = {
                 "camera": float(found.group(2)),
                 "camera_single": float(found.group(3)),
-                "shadow": float(found.group(7)),
-                "shadow_single": float(found.group(8)),
+                "shadow": float(found.group(9)),
+                "shadow_single": float(found.group(10)),
             }
     if not rows:
         raise RunError("cargo bench --bench layout printed no table")

@@ -8,6 +8,7 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use penumbra::math::{Ray, Vec3, SHADOW_EPSILON};
+use penumbra::simd::{with_single_ray_level, SimdLevel};
 use penumbra::store::PrimitiveStore;
 use penumbra::trace::{closest_hit, transmittance, TraceScene};
 use rayon::prelude::*;
@@ -49,8 +50,17 @@ pub fn ray_set<S: PrimitiveStore>(scene: &TraceScene<S>, w: u32, h: u32, light: 
 
 /// Closest hits of every ray; returns the number of hits.
 pub fn trace_primary<S: PrimitiveStore>(scene: &TraceScene<S>, rays: &[Ray]) -> usize {
+    trace_primary_at(scene, rays, SimdLevel::Auto)
+}
+
+/// [`trace_primary`] with the single-ray kernels at `level` (`Scalar`: one primitive at a time).
+pub fn trace_primary_at<S: PrimitiveStore>(scene: &TraceScene<S>, rays: &[Ray], level: SimdLevel) -> usize {
     rays.par_chunks(256)
-        .map(|c| c.iter().filter(|r| closest_hit(scene, black_box(r), 0.0, f32::INFINITY).is_some()).count())
+        .map(|c| {
+            with_single_ray_level(level, || {
+                c.iter().filter(|r| closest_hit(scene, black_box(r), 0.0, f32::INFINITY).is_some()).count()
+            })
+        })
         .sum()
 }
 
@@ -135,8 +145,21 @@ pub fn trace_shadow_packets<S: PrimitiveStore>(
 
 /// Shadow tests of every ray; returns the number of occluded rays.
 pub fn trace_shadow<S: PrimitiveStore>(scene: &TraceScene<S>, rays: &[(Ray, f32)]) -> usize {
+    trace_shadow_at(scene, rays, SimdLevel::Auto)
+}
+
+/// [`trace_shadow`] with the single-ray kernels at `level` (`Scalar`: one primitive at a time).
+pub fn trace_shadow_at<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    rays: &[(Ray, f32)],
+    level: SimdLevel,
+) -> usize {
     rays.par_chunks(256)
-        .map(|c| c.iter().filter(|(r, t)| transmittance(scene, black_box(r), *t) == 0.0).count())
+        .map(|c| {
+            with_single_ray_level(level, || {
+                c.iter().filter(|(r, t)| transmittance(scene, black_box(r), *t) == 0.0).count()
+            })
+        })
         .sum()
 }
 
