@@ -104,7 +104,7 @@ pub fn occluded<const N: usize, S: PrimitiveStore>(
     packet: &RayPacket<N>,
     cost: &mut TraversalCost,
 ) -> [bool; N] {
-    debug_assert!(!scene.effects.transmission, "shadow packets are for opaque scenes");
+    debug_assert!(!scene.effects.transmission, "`occluded` is for opaque scenes; see `transmittances`");
     struct Blockers<'a, const N: usize, S: PrimitiveStore> {
         store: &'a S,
         packet: &'a RayPacket<N>,
