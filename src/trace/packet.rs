@@ -133,31 +133,12 @@ pub fn occluded<const N: usize, S: PrimitiveStore>(
         }
     }
     let store = &scene.store;
-    let mut occluded = [false; N];
-    for p in 0..store.unbounded_count() {
-        for i in 0..N {
-            if packet.active[i] && !occluded[i] {
-                cost.tests += 1;
-                occluded[i] = store.intersect_unbounded(p, &packet.ray(i), 0.0, packet.t_max[i]).is_some();
-            }
-        }
+    let (mut pass, open) = planes_part(scene, packet, cost);
+    if scattered(scene, packet, &open) {
+        alone(scene, packet, &open, &mut pass, cost);
+        return std::array::from_fn(|i| packet.active[i] && pass[i] == 0.0);
     }
-    let mut open = [false; N];
-    for i in 0..N {
-        open[i] = packet.active[i] & !occluded[i];
-    }
-    // Origins scattered over more than two cells make a frustum that sweeps many cells per ray
-    // (shadow rays from hits at different depths): such lanes walk alone from the start.
-    if origin_spread(packet, &open) > 2.0 * scene.grid.cell_size.max_element() {
-        for i in 0..N {
-            if open[i] {
-                let pass =
-                    super::integrator::transmittance_tallied(scene, &packet.ray(i), packet.t_max[i], cost);
-                occluded[i] = pass == 0.0;
-            }
-        }
-        return occluded;
-    }
+    let occluded = std::array::from_fn(|i| packet.active[i] && !open[i]);
     let bound = std::array::from_fn(|i| if occluded[i] { f32::NEG_INFINITY } else { packet.t_max[i] });
     let mut sink = Blockers { store, packet, bound, occluded, cost: TraversalCost::default() };
     let mut cells = 0;
@@ -166,12 +147,10 @@ pub fn occluded<const N: usize, S: PrimitiveStore>(
     cost.cells += cells + tested.cells;
     cost.tests += tested.tests;
     if walked.is_none() {
+        let rest = std::array::from_fn(|i| open[i] && !occluded[i]);
+        alone(scene, packet, &rest, &mut pass, cost);
         for i in 0..N {
-            if open[i] && !occluded[i] {
-                let pass =
-                    super::integrator::transmittance_tallied(scene, &packet.ray(i), packet.t_max[i], cost);
-                occluded[i] = pass == 0.0;
-            }
+            occluded[i] |= rest[i] && pass[i] == 0.0;
         }
     }
     occluded
@@ -207,7 +186,7 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
     packet: &RayPacket<N>,
     cost: &mut TraversalCost,
 ) -> [f32; N] {
-    use super::integrator::{ordered_product, planes_transmittance, transmittance_tallied};
+    use super::integrator::ordered_product;
     /// One object met by the walk: each lane's share, and which lanes have one.
     struct Met<const N: usize> {
         id: u32,
@@ -268,23 +247,9 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
             }
         }
     }
-    let mut pass = [0.0f32; N];
-    let mut open = [false; N];
-    for i in 0..N {
-        if packet.active[i] {
-            pass[i] = planes_transmittance(scene, &packet.ray(i), packet.t_max[i], cost);
-            open[i] = pass[i] != 0.0;
-        }
-    }
-    let alone = |pass: &mut [f32; N], cost: &mut TraversalCost| {
-        for i in 0..N {
-            if open[i] {
-                pass[i] = transmittance_tallied(scene, &packet.ray(i), packet.t_max[i], cost);
-            }
-        }
-    };
-    if origin_spread(packet, &open) > 2.0 * scene.grid.cell_size.max_element() {
-        alone(&mut pass, cost);
+    let (mut pass, open) = planes_part(scene, packet, cost);
+    if scattered(scene, packet, &open) {
+        alone(scene, packet, &open, &mut pass, cost);
         return pass;
     }
     let bound = std::array::from_fn(|i| if open[i] { packet.t_max[i] } else { f32::NEG_INFINITY });
@@ -296,7 +261,7 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
     cost.tests += tested.tests;
     if walked.is_none() {
         // The shares found so far cover only part of each lane's way: start again, alone.
-        alone(&mut pass, cost);
+        alone(scene, packet, &open, &mut pass, cost);
         return pass;
     }
     met.sort_unstable_by_key(|m| m.id);
@@ -314,6 +279,53 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
         pass[i] = ordered_product(pass[i], &mut shares);
     }
     pass
+}
+
+/// The planes' part of each active lane's shadow transmittance
+/// ([`super::integrator::planes_transmittance`]), and the lanes it leaves open.
+#[inline(always)]
+fn planes_part<const N: usize, S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    packet: &RayPacket<N>,
+    cost: &mut TraversalCost,
+) -> ([f32; N], [bool; N]) {
+    let mut pass = [0.0f32; N];
+    let mut open = [false; N];
+    for i in 0..N {
+        if packet.active[i] {
+            pass[i] = super::integrator::planes_transmittance(scene, &packet.ray(i), packet.t_max[i], cost);
+            open[i] = pass[i] != 0.0;
+        }
+    }
+    (pass, open)
+}
+
+/// True when the `open` lanes' origins are scattered over more than two cells (shadow rays from
+/// hits at different depths): their frustum would sweep many cells per ray, so they walk alone
+/// from the start.
+#[inline(always)]
+fn scattered<const N: usize, S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    packet: &RayPacket<N>,
+    open: &[bool; N],
+) -> bool {
+    origin_spread(packet, open) > 2.0 * scene.grid.cell_size.max_element()
+}
+
+/// Each of the `lanes`' whole shadow transmittance, traced alone, into `pass`.
+#[inline(always)]
+fn alone<const N: usize, S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    packet: &RayPacket<N>,
+    lanes: &[bool; N],
+    pass: &mut [f32; N],
+    cost: &mut TraversalCost,
+) {
+    for i in 0..N {
+        if lanes[i] {
+            pass[i] = super::integrator::transmittance_tallied(scene, &packet.ray(i), packet.t_max[i], cost);
+        }
+    }
 }
 
 /// The largest extent of the box around the `live` lanes' origins.
