@@ -3,7 +3,7 @@
 //! (`fuzz/regressions/<target>/`) and on a handful of nasty inputs. Each must be accepted or
 //! refused with a message naming its file.
 
-mod fuzz_entries;
+use crate::fuzz_entries;
 
 use std::path::{Path, PathBuf};
 

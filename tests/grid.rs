@@ -5,7 +5,7 @@
 //! corners and edges, grazing, missing, shadow-style with a finite `t_max`, and at huge and tiny
 //! scales and on degenerate grids.
 
-mod common;
+use crate::common;
 
 use common::{point_in, rng, unit_vector};
 use glam::{DAffine3, DVec3};

@@ -3,7 +3,7 @@
 //! topology), run through the grid (`closest_hit`) and through brute force
 //! (`closest_hit_brute`), which must agree with the expectation and with each other.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

@@ -1,8 +1,6 @@
 //! Image-level invariants: every shipped scene renders to finite values only, and a mirror box
 //! (kr + kt ≤ 1) never brightens the light it carries.
 
-mod common;
-
 use glam::{DAffine3, DVec3};
 use penumbra::camera::Camera;
 use penumbra::geom::Shape;

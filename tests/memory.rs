@@ -2,7 +2,7 @@
 //! (exit 2, with the estimate), the estimate tracks the memory a render really takes, and the
 //! work a frame asks for is shown with the progress bar.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::{Command, Output, Stdio};

@@ -1,7 +1,7 @@
 //! Meshes: smooth Phong normals, watertight intersection, the two-level grid against brute force,
 //! top-level-only rebuilds, SoA = AoS bit for bit, and OBJ errors that name the file and line.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

@@ -8,7 +8,7 @@
 // Lane loops index several parallel lane arrays by the same lane number.
 #![allow(clippy::needless_range_loop)]
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

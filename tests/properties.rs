@@ -2,7 +2,7 @@
 //! force, a ray and its reverse see the same crossings of a closed mesh, hits lie inside the
 //! asked range, and shading normals are unit and face the ray.
 
-mod common;
+use crate::common;
 
 use common::strategies;
 use penumbra::math::Ray;

@@ -3,7 +3,7 @@
 //! re-rendering from any folder and from moved files, outputs checked before any work, stray
 //! temporaries cleared, concurrent runs on one folder, and progress only on a terminal.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
