@@ -303,10 +303,10 @@ pub struct PathContext<'a> {
     /// the next shading point, already traced in a packet with its neighbours' (camera hits and
     /// point or directional lights); taken by the first [`super::phong::direct_light`].
     pub shadow_hint: Option<ShadowHint>,
-    /// The next shading point's surface, already found by a packet tracer that needed it
-    /// (for the shadow rays of [`PathContext::shadow_hint`]); taken by the first
-    /// [`radiance_at`], which would compute the same.
-    pub surface_hint: Option<SurfacePoint>,
+    /// The next shading point, already found by a packet tracer that needed it (for the
+    /// shadow rays of [`PathContext::shadow_hint`]); taken by the first [`radiance_at`], which
+    /// would compute the same.
+    pub surface_hint: Option<ShadingPoint>,
 }
 
 /// Lights whose shadow rays from camera hits are traced in packets.
@@ -461,18 +461,12 @@ pub fn radiance_at<S: PrimitiveStore>(
     let Some(hit) = found else {
         return scene.background;
     };
-    let sp = match ctx.surface_hint.take() {
-        Some(sp) => sp,
-        None => scene.store.surface(&hit, ray),
+    let ShadingPoint { sp, entering, n, ns, above } = match ctx.surface_hint.take() {
+        Some(shading) => shading,
+        None => ShadingPoint::new(scene.store.surface(&hit, ray), ray.dir),
     };
     let m = *scene.material(sp.material);
-    // Shade the side the ray arrives on: `n` is the geometric normal on that side (it decides
-    // offsets and sides), `ns` the shading normal there, unless it would face away from the
-    // viewer (possible at grazing angles on a smooth mesh), where the geometric one takes over.
-    let (entering, n, ns) = facing_normals(&sp, ray.dir);
-    // Rays leave just beyond the hit point's error bound, on their side of the geometric normal
-    // (the front of a smooth mesh from its lifted point: no shadow terminator).
-    let surface = Surface { point: sp.point, normal: ns, above: sp.spawn(n), eps: sp.error };
+    let surface = Surface { point: sp.point, normal: ns, above, eps: sp.error };
     let mut colour = scene.ambient * m.kd + direct_light(scene, &m, &surface, -ray.dir, ctx);
 
     if depth >= ctx.max_depth {
@@ -543,6 +537,32 @@ pub fn facing_normals(sp: &crate::store::SurfacePoint, dir: Vec3) -> (bool, Vec3
         _ => n,
     };
     (entering, n, ns)
+}
+
+/// A hit as shading sees it from the side its ray arrives on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShadingPoint {
+    /// The surface at the hit.
+    pub sp: SurfacePoint,
+    /// Whether the ray arrives on the front (geometric) side.
+    pub entering: bool,
+    /// The unit geometric normal on the arrival side: it decides offsets and sides.
+    pub n: Vec3,
+    /// The unit shading normal on the arrival side, unless it would face away from the viewer
+    /// (possible at grazing angles on a smooth mesh), where `n` takes over.
+    pub ns: Vec3,
+    /// Where rays leaving on the arrival side start: just beyond the hit point's error bound
+    /// along `n` (the front of a smooth mesh from its lifted point: no shadow terminator).
+    pub above: Vec3,
+}
+
+impl ShadingPoint {
+    /// The surface `sp` seen by a ray travelling along `dir`.
+    #[inline]
+    pub fn new(sp: SurfacePoint, dir: Vec3) -> Self {
+        let (entering, n, ns) = facing_normals(&sp, dir);
+        Self { sp, entering, n, ns, above: sp.spawn(n) }
+    }
 }
 
 /// Which kind of ray a [`scatter`] traces.

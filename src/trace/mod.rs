@@ -19,7 +19,8 @@ pub mod stats;
 pub use effects::Effects;
 pub use finite::DroppedSamples;
 pub use integrator::{
-    closest_hit, closest_hit_brute, closest_hit_tallied, facing_normals, transmittance, transmittance_tallied,
+    closest_hit, closest_hit_brute, closest_hit_tallied, facing_normals, transmittance,
+    transmittance_tallied, ShadingPoint,
 };
 pub use light::Light;
 pub use material::Material;

@@ -22,7 +22,8 @@ use rayon::prelude::*;
 use super::aov::first_hit_aovs;
 use super::finite::{DropTally, SampleMean};
 use super::integrator::{
-    radiance, radiance_at, CameraSample, PathContext, ShadowHint, DEFAULT_MAX_SECONDARY_RAYS, HINTED_LIGHTS,
+    radiance, radiance_at, CameraSample, PathContext, ShadingPoint, ShadowHint, DEFAULT_MAX_SECONDARY_RAYS,
+    HINTED_LIGHTS,
 };
 use super::packet::{closest_hits, shadow_passes, LANES, MIN_LANES};
 use super::scene::TraceScene;
@@ -35,7 +36,7 @@ use crate::sample::rng::{hash, permute, uniform2, SampleKey};
 use crate::sample::warp::tent;
 use crate::sample::{Filter, Pattern};
 use crate::simd::SimdLevel;
-use crate::store::{MeshEntry, PrimitiveStore, SurfacePoint, TraversalCost};
+use crate::store::{MeshEntry, PrimitiveStore, TraversalCost};
 
 /// Edge length of a square render tile in pixels.
 pub const TILE: u32 = 16;
@@ -417,10 +418,11 @@ fn packet_tile<S: PrimitiveStore>(
                 let lane_cost = cost.per_ray(cameras.iter().flatten().count() as u32);
                 // Each hit's surface, found once: the shadow packets start from it, and so does
                 // the lane's shading.
-                let surfaces: [Option<SurfacePoint>; LANES] = std::array::from_fn(|lane| {
-                    hits.hit[lane].map(|hit| scene.store.surface(&hit, &packet.ray(lane)))
+                let surfaces: [Option<ShadingPoint>; LANES] = std::array::from_fn(|lane| {
+                    let ray = packet.ray(lane);
+                    hits.hit[lane].map(|hit| ShadingPoint::new(scene.store.surface(&hit, &ray), ray.dir))
                 });
-                let hints = point_light_shadows(scene, &packet, &surfaces, level, rays);
+                let hints = point_light_shadows(scene, &surfaces, level, rays);
                 for (lane, camera) in cameras.iter().enumerate() {
                     if let Some(camera) = *camera {
                         let mut ctx = PathContext::new(settings, camera, rays);
@@ -452,12 +454,11 @@ fn packet_tile<S: PrimitiveStore>(
 /// The shadow rays from a packet's camera hits towards each of the first [`HINTED_LIGHTS`]
 /// point or directional lights, traced as one packet per light (a common end point, or a
 /// common direction): per lane, the transmittance [`super::phong::direct_light`] would find,
-/// computed from the same surface point (`surfaces`: each camera hit's), normal and offset
-/// origin.
+/// computed from the same shading point (`surfaces`: each camera hit's, as `radiance_at` sees
+/// it).
 fn point_light_shadows<S: PrimitiveStore>(
     scene: &TraceScene<S>,
-    packet: &RayPacket<LANES>,
-    surfaces: &[Option<SurfacePoint>; LANES],
+    surfaces: &[Option<ShadingPoint>; LANES],
     level: SimdLevel,
     rays: &mut RayCounts,
 ) -> [Option<ShadowHint>; LANES] {
@@ -466,19 +467,12 @@ fn point_light_shadows<S: PrimitiveStore>(
     if scene.lights.iter().take(HINTED_LIGHTS).all(|l| l.is_area()) {
         return hints;
     }
-    // What `radiance_at` computes for each lane's shading point: the point, the shading normal
-    // on the arrival side, and the offset origin of rays leaving on that side.
-    let surfaces: [Option<(Vec3, Vec3, Vec3)>; LANES] = std::array::from_fn(|lane| {
-        let sp = surfaces[lane]?;
-        let (_, n, ns) = super::integrator::facing_normals(&sp, packet.ray(lane).dir);
-        Some((sp.point, ns, sp.spawn(n)))
-    });
     for (j, light) in lights {
         let mut shadow = RayPacket::<LANES>::default();
         let mut lanes = 0;
         for (lane, surface) in surfaces.iter().enumerate() {
-            let Some((point, ns, above)) = *surface else { continue };
-            let (to_light, dist, _) = light.towards(point);
+            let Some(ShadingPoint { sp, ns, above, .. }) = *surface else { continue };
+            let (to_light, dist, _) = light.towards(sp.point);
             if ns.dot(to_light) <= 0.0 {
                 continue;
             }
