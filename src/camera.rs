@@ -14,8 +14,11 @@ pub struct Camera {
     pub right: Vec3,
     /// Unit up vector, orthogonal to `forward` and `right`.
     pub up: Vec3,
-    /// Vertical field of view in radians.
-    pub fov_y: f32,
+    /// Vertical field of view in radians ([`Camera::fov_y`]).
+    fov_y: f32,
+    /// `tan(fov_y / 2)`: half the image plane's height at distance 1, computed once here
+    /// rather than once per camera ray.
+    half_height: f32,
     /// Lens radius; 0 is a pinhole (everything sharp).
     pub aperture: f32,
     /// Distance along `forward` of the plane in focus.
@@ -30,7 +33,14 @@ impl Camera {
         let right = forward.cross(up).normalize();
         let up = right.cross(forward);
         let focus_distance = (look_at - position).length();
-        Self { position, forward, right, up, fov_y, aperture: 0.0, focus_distance }
+        let half_height = (0.5 * fov_y).tan();
+        Self { position, forward, right, up, fov_y, half_height, aperture: 0.0, focus_distance }
+    }
+
+    /// Vertical field of view in radians.
+    #[inline]
+    pub fn fov_y(&self) -> f32 {
+        self.fov_y
     }
 
     /// The same camera with a thin lens of radius `aperture` focused at `focus_distance`.
@@ -49,7 +59,7 @@ impl Camera {
     /// `[i, i+1) × [j, j+1)`; its centre is `(i + 0.5, j + 0.5)`).
     #[inline]
     fn direction(&self, px: f32, py: f32, width: u32, height: u32) -> Vec3 {
-        let half_h = (0.5 * self.fov_y).tan();
+        let half_h = self.half_height;
         let half_w = half_h * width as f32 / height as f32;
         let sx = (2.0 * px / width as f32 - 1.0) * half_w;
         let sy = (1.0 - 2.0 * py / height as f32) * half_h;

@@ -269,7 +269,7 @@ fn every_property_reads_back_what_was_written() {
     assert_eq!((rig.position, rig.look_at), (DVec3::new(1.0, 2.0, -7.0), DVec3::new(0.0, 1.0, 0.0)));
     assert_eq!(camera.position, Vec3::ZERO, "the snapshot is relative to the camera");
     assert_eq!((camera.aperture, camera.focus_distance), (0.05, 6.5));
-    assert!((camera.fov_y.to_degrees() - 35.5).abs() < 1e-4);
+    assert!((camera.fov_y().to_degrees() - 35.5).abs() < 1e-4);
     let ball = world.world_mut().entity("ball").unwrap();
     let transform = *world.world().world().get::<penumbra::world::components::Transform>(ball).unwrap();
     assert_eq!(transform.translation, DVec3::new(0.25, 1.5, -0.75));

@@ -22,9 +22,13 @@ use glam::Vec2;
 /// assert_eq!(strata(7), (7, 1));
 /// assert_eq!(strata(0), (1, 1));
 /// ```
+#[inline]
 pub fn strata(n: u32) -> (u32, u32) {
     let n = n.max(1);
-    let mut ny = n.isqrt();
+    // ⌊√n⌋ in a few instructions (`u32::isqrt` is a software loop, and every area-light and
+    // camera sample asks): `f64`'s square root is correctly rounded, and no `u32` lies close
+    // enough below a square (within 1/(2√n), far above f64's rounding) for it to round up.
+    let mut ny = f64::from(n).sqrt() as u32;
     while !n.is_multiple_of(ny) {
         ny -= 1;
     }
@@ -62,7 +66,13 @@ fn jitter_in_cell(i: u32, cells: u32, u: f32) -> f32 {
 /// assert_eq!(square_point(Pattern::Jittered, 4, 1, Vec2::ZERO), Vec2::new(0.5, 0.0));
 /// ```
 pub fn square_point(pattern: Pattern, n: u32, i: u32, u: Vec2) -> Vec2 {
-    let (nx, ny) = strata(n);
+    square_point_in(pattern, strata(n), i, u)
+}
+
+/// [`square_point`] with `n`'s [`strata`] already worked out (they cost a loop of divisions;
+/// a caller drawing many points of the same `n` finds them once).
+#[inline]
+pub fn square_point_in(pattern: Pattern, (nx, ny): (u32, u32), i: u32, u: Vec2) -> Vec2 {
     let i = i % (nx * ny);
     let (ix, iy) = (i % nx, i / nx);
     let p = match pattern {
@@ -99,6 +109,12 @@ pub fn square_points(
 /// The `i`-th of `n` points of `pattern` mapped onto the unit disk by the concentric map.
 pub fn disk_point(pattern: Pattern, n: u32, i: u32, u: Vec2) -> Vec2 {
     concentric_disk(square_point(pattern, n, i, u))
+}
+
+/// [`disk_point`] with `n`'s [`strata`] already worked out.
+#[inline]
+pub fn disk_point_in(pattern: Pattern, strata: (u32, u32), i: u32, u: Vec2) -> Vec2 {
+    concentric_disk(square_point_in(pattern, strata, i, u))
 }
 
 /// Camera sample `key.sample` of `n` (one per pixel sample) in dimension `dim`, as pbrt's
@@ -143,6 +159,19 @@ mod tests {
                 .expect("every point of [0,1) is in some cell")
         };
         find(p.y, ny) * nx + find(p.x, nx)
+    }
+
+    #[test]
+    fn strata_take_the_integer_square_root_at_every_square() {
+        // The only places a rounded square root could go wrong: next to each square.
+        for k in 1..=u32::from(u16::MAX) {
+            for n in [k * k - 1, k * k, k * k + 1, k * k + 2 * k] {
+                let ny = f64::from(n).sqrt() as u32;
+                assert_eq!(ny, n.isqrt(), "n {n}");
+            }
+        }
+        assert_eq!(f64::from(u32::MAX).sqrt() as u32, u32::MAX.isqrt());
+        assert_eq!(strata(u32::MAX), (u32::MAX / 65535, 65535));
     }
 
     #[test]

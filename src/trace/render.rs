@@ -31,7 +31,7 @@ use super::stats::{AdaptiveCounts, BudgetStats, GridStats, MeshGridStats, RayCou
 use crate::film::{AovSet, Aovs, Film};
 use crate::math::{Ray, RayPacket, Vec2, Vec3, SHADOW_EPSILON};
 use crate::sample::adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint};
-use crate::sample::pattern::{disk_point, square_point};
+use crate::sample::pattern::{disk_point, disk_point_in, square_point_in, strata};
 use crate::sample::rng::{hash, permute, uniform2, SampleKey};
 use crate::sample::warp::tent;
 use crate::sample::{Filter, Pattern};
@@ -170,18 +170,20 @@ pub fn render_observed<S: PrimitiveStore>(
         // frustum worth walking (measured: 20 % slower on effects_dof). Shadow packets remain.
         None if settings.simd.packets() && !wanted.cost && !scene.camera.has_lens() => {
             let level = settings.simd.resolve();
+            let sampler = CameraSampler::new(scene, settings);
             let tile = |area: [u32; 4], rays: &mut RayCounts, out: &mut TileOut| {
-                packet_tile(scene, settings, level, area, rays, out)
+                packet_tile(&sampler, level, area, rays, out)
             };
             (render_tiles(settings, false, tile, &tile_done), AdaptiveCounts::default())
         }
         None => {
             let want_cost = wanted.cost;
+            let sampler = CameraSampler::new(scene, settings);
             let tile = |[x0, y0, x1, y1]: [u32; 4], rays: &mut RayCounts, out: &mut TileOut| {
                 for y in y0..y1 {
                     for x in x0..x1 {
                         let before = rays.total();
-                        out.pixels.push(fixed_pixel(scene, settings, x, y, rays));
+                        out.pixels.push(fixed_pixel(&sampler, x, y, rays));
                         if want_cost {
                             out.costs.push(saturate(rays.total() - before));
                         }
@@ -321,57 +323,69 @@ fn saturate(n: u64) -> u32 {
 /// A pixel as the mean of its fixed set of camera samples, less those dropped as non-finite,
 /// and how many were dropped.
 fn fixed_pixel<S: PrimitiveStore>(
-    scene: &TraceScene<S>,
-    settings: &RenderSettings,
+    sampler: &CameraSampler<'_, S>,
     x: u32,
     y: u32,
     rays: &mut RayCounts,
 ) -> (Vec3, u32) {
     let mut mean = SampleMean::default();
-    for sample in 0..samples_per_pixel(scene, settings) {
-        let (ray, camera) = camera_sample(scene, settings, x, y, sample, rays);
-        mean.add(trace_camera_ray(scene, settings, &ray, camera, rays));
+    for sample in 0..sampler.n {
+        let (ray, camera) = sampler.sample(x, y, sample, rays);
+        mean.add(trace_camera_ray(sampler.scene, sampler.settings, &ray, camera, rays));
     }
     (mean.mean(), mean.dropped())
 }
 
-/// Camera samples per pixel with a fixed pattern: AA samples times lens samples.
-fn samples_per_pixel<S: PrimitiveStore>(scene: &TraceScene<S>, settings: &RenderSettings) -> u32 {
-    let n_lens = if scene.camera.has_lens() { settings.lens.samples.max(1) } else { 1 };
-    settings.aa.sampling.samples.max(1) * n_lens
+/// The fixed camera samples of a frame: what every sample shares (counts and their strata),
+/// worked out once rather than once per sample.
+struct CameraSampler<'a, S: PrimitiveStore> {
+    scene: &'a TraceScene<S>,
+    settings: &'a RenderSettings,
+    /// AA positions per pixel, and their strata.
+    n_aa: u32,
+    aa_strata: (u32, u32),
+    /// Lens points per AA position (1 for a pinhole).
+    n_lens: u32,
+    /// Camera samples per pixel (`n_aa · n_lens`), and the strata lens points are drawn from.
+    n: u32,
+    lens_strata: (u32, u32),
 }
 
-/// Camera sample `sample` of pixel `(x, y)`: its ray (counted as a camera or lens ray) and its
-/// key. Sample `i · n_lens + j` is AA position `i` through lens point `j`.
-fn camera_sample<S: PrimitiveStore>(
-    scene: &TraceScene<S>,
-    settings: &RenderSettings,
-    x: u32,
-    y: u32,
-    sample: u32,
-    rays: &mut RayCounts,
-) -> (Ray, CameraSample) {
-    let pixel = y * settings.width + x;
-    let patterns = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample: PIXEL_PATTERNS };
-    let n_aa = settings.aa.sampling.samples.max(1);
-    let n_lens = if scene.camera.has_lens() { settings.lens.samples.max(1) } else { 1 };
-    let n = n_aa * n_lens;
-    let i = sample / n_lens;
-    let offset = pixel_offset(&settings.aa, n_aa, i, uniform2(&patterns, DIM_PIXEL, i));
-    let (px, py) = (x as f32 + offset.x, y as f32 + offset.y);
-    let ray = if scene.camera.has_lens() {
-        // Lens points are stratified over all n samples, in an order decorrelated from the
-        // pixel positions.
-        let k = permute(sample, n, hash(&patterns, DIM_LENS, u32::MAX));
-        let lens = disk_point(settings.lens.pattern, n, k, uniform2(&patterns, DIM_LENS, k));
-        rays.lens += 1;
-        scene.camera.lens_ray(px, py, settings.width, settings.height, lens)
-    } else {
-        rays.camera += 1;
-        scene.camera.ray(px, py, settings.width, settings.height)
-    };
-    let key = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample };
-    (ray, CameraSample { key, pixel: patterns, slot: sample, spp: n })
+impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
+    fn new(scene: &'a TraceScene<S>, settings: &'a RenderSettings) -> Self {
+        let n_aa = settings.aa.sampling.samples.max(1);
+        let n_lens = if scene.camera.has_lens() { settings.lens.samples.max(1) } else { 1 };
+        let n = n_aa * n_lens;
+        Self { scene, settings, n_aa, aa_strata: strata(n_aa), n_lens, n, lens_strata: strata(n) }
+    }
+
+    /// Camera sample `sample` of pixel `(x, y)`: its ray (counted as a camera or lens ray) and
+    /// its key. Sample `i · n_lens + j` is AA position `i` through lens point `j`.
+    #[inline]
+    fn sample(&self, x: u32, y: u32, sample: u32, rays: &mut RayCounts) -> (Ray, CameraSample) {
+        let (scene, settings) = (self.scene, self.settings);
+        let pixel = y * settings.width + x;
+        let patterns =
+            SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample: PIXEL_PATTERNS };
+        let i = sample / self.n_lens;
+        let u = uniform2(&patterns, DIM_PIXEL, i);
+        let offset = pixel_offset(&settings.aa, self.n_aa, self.aa_strata, i, u);
+        let (px, py) = (x as f32 + offset.x, y as f32 + offset.y);
+        let ray = if scene.camera.has_lens() {
+            // Lens points are stratified over all n samples, in an order decorrelated from the
+            // pixel positions.
+            let k = permute(sample, self.n, hash(&patterns, DIM_LENS, u32::MAX));
+            let lens =
+                disk_point_in(settings.lens.pattern, self.lens_strata, k, uniform2(&patterns, DIM_LENS, k));
+            rays.lens += 1;
+            scene.camera.lens_ray(px, py, settings.width, settings.height, lens)
+        } else {
+            rays.camera += 1;
+            scene.camera.ray(px, py, settings.width, settings.height)
+        };
+        let key = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample };
+        (ray, CameraSample { key, pixel: patterns, slot: sample, spp: self.n })
+    }
 }
 
 /// Width and height in pixels of the block whose camera rays form one packet.
@@ -382,8 +396,7 @@ const BLOCK: [u32; 2] = [4, 4];
 /// `level`), and shades each lane on its own. Every pixel accumulates its samples in the same
 /// order as [`fixed_pixel`], from the same hits, so the image is the same bits.
 fn packet_tile<S: PrimitiveStore>(
-    scene: &TraceScene<S>,
-    settings: &RenderSettings,
+    sampler: &CameraSampler<'_, S>,
     level: SimdLevel,
     [x0, y0, x1, y1]: [u32; 4],
     rays: &mut RayCounts,
@@ -392,7 +405,7 @@ fn packet_tile<S: PrimitiveStore>(
     const { assert!((BLOCK[0] * BLOCK[1]) as usize == LANES) };
     let tw = x1 - x0;
     out.pixels.resize(((y1 - y0) * tw) as usize, (Vec3::ZERO, 0));
-    let n = samples_per_pixel(scene, settings);
+    let (scene, settings, n) = (sampler.scene, sampler.settings, sampler.n);
     for by in (y0..y1).step_by(BLOCK[1] as usize) {
         for bx in (x0..x1).step_by(BLOCK[0] as usize) {
             let mut means = [SampleMean::default(); LANES];
@@ -405,7 +418,7 @@ fn packet_tile<S: PrimitiveStore>(
                 let mut cameras = [None; LANES];
                 for (lane, camera) in cameras.iter_mut().enumerate() {
                     if let Some((x, y)) = pixel(lane) {
-                        let (ray, key) = camera_sample(scene, settings, x, y, sample, rays);
+                        let (ray, key) = sampler.sample(x, y, sample, rays);
                         packet.set(lane, &ray, 0.0, f32::INFINITY);
                         *camera = Some(key);
                     }
@@ -501,11 +514,11 @@ fn point_light_shadows<S: PrimitiveStore>(
 }
 
 /// Where in the pixel (in pixel units from its top-left corner) sample `i` of `n` lands.
-fn pixel_offset(aa: &AntiAliasing, n: u32, i: u32, u: Vec2) -> Vec2 {
+fn pixel_offset(aa: &AntiAliasing, n: u32, strata: (u32, u32), i: u32, u: Vec2) -> Vec2 {
     if n == 1 {
         return Vec2::splat(0.5);
     }
-    let p = square_point(aa.sampling.pattern, n, i, u);
+    let p = square_point_in(aa.sampling.pattern, strata, i, u);
     match aa.filter {
         Filter::Box => p,
         Filter::Tent => Vec2::new(0.5 + tent(p.x), 0.5 + tent(p.y)),
