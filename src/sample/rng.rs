@@ -60,10 +60,36 @@ fn mix(mut z: u64) -> u64 {
 /// ```
 #[inline]
 pub fn hash(key: &SampleKey, dim: u32, index: u32) -> u64 {
-    let mut h = mix(key.seed ^ SEED_OFFSET);
-    h = mix(h ^ ((u64::from(key.pixel) << 32) | u64::from(key.sample)));
-    h = mix(h ^ ((u64::from(key.frame) << 32) | u64::from(dim)));
-    mix(h ^ u64::from(index))
+    Dimension::new(key, dim).hash(index)
+}
+
+/// One dimension of one key: [`hash`] and [`uniform2`] of its points with the part that does
+/// not depend on the point (three of the hash's four mixing rounds) done once, for callers
+/// that draw many points of the same dimension (an area light's or a glossy cone's samples).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Dimension(u64);
+
+impl Dimension {
+    /// Dimension `dim` of `key`.
+    #[inline]
+    pub fn new(key: &SampleKey, dim: u32) -> Self {
+        let mut h = mix(key.seed ^ SEED_OFFSET);
+        h = mix(h ^ ((u64::from(key.pixel) << 32) | u64::from(key.sample)));
+        Self(mix(h ^ ((u64::from(key.frame) << 32) | u64::from(dim))))
+    }
+
+    /// [`hash`] of point `index`.
+    #[inline]
+    pub fn hash(self, index: u32) -> u64 {
+        mix(self.0 ^ u64::from(index))
+    }
+
+    /// [`uniform2`] of point `index`.
+    #[inline]
+    pub fn uniform2(self, index: u32) -> Vec2 {
+        let h = self.hash(index);
+        Vec2::new(unit_f32(h >> 40), unit_f32(h >> 16))
+    }
 }
 
 /// Converts 24 random bits (the low 24 of `bits`) to a float in `[0, 1)`; exact, never 1.0.
@@ -90,8 +116,7 @@ pub fn uniform(key: &SampleKey, dim: u32, index: u32) -> f32 {
 /// The first component equals [`uniform`] for the same arguments.
 #[inline]
 pub fn uniform2(key: &SampleKey, dim: u32, index: u32) -> Vec2 {
-    let h = hash(key, dim, index);
-    Vec2::new(unit_f32(h >> 40), unit_f32(h >> 16))
+    Dimension::new(key, dim).uniform2(index)
 }
 
 /// Sequential allocation of dimensions along one camera sample's path.
@@ -168,42 +193,74 @@ impl SampleStream {
 /// assert_eq!(seen, (0..10).collect::<Vec<_>>());
 /// ```
 pub fn permute(index: u32, n: u32, seed: u64) -> u32 {
-    let l = n.max(1);
-    // Fold the 64-bit seed into 32 well-mixed bits.
-    let p = (mix(seed ^ SEED_OFFSET) >> 32) as u32;
-    let mut w = l - 1;
-    w |= w >> 1;
-    w |= w >> 2;
-    w |= w >> 4;
-    w |= w >> 8;
-    w |= w >> 16;
-    let mut i = index % l;
-    // Every step is a bijection on the low bits under the mask `w`, so the loop visits a cycle
-    // of that bijection and stops at the first element inside `0..l`.
-    loop {
-        i ^= p;
-        i = i.wrapping_mul(0xe170_893d);
-        i ^= p >> 16;
-        i ^= (i & w) >> 4;
-        i ^= p >> 8;
-        i = i.wrapping_mul(0x0929_eb3f);
-        i ^= p >> 23;
-        i ^= (i & w) >> 1;
-        i = i.wrapping_mul(1 | p >> 27);
-        i = i.wrapping_mul(0x6935_fa69);
-        i ^= (i & w) >> 11;
-        i = i.wrapping_mul(0x74dc_b303);
-        i ^= (i & w) >> 2;
-        i = i.wrapping_mul(0x9e50_1cc3);
-        i ^= (i & w) >> 2;
-        i = i.wrapping_mul(0xc860_a3df);
-        i &= w;
-        i ^= i >> 5;
-        if i < l {
-            break;
-        }
+    Permutation::new(n, seed).at(index)
+}
+
+/// The permutation of [`permute`] for one `(n, seed)`, its seed folded and its offset reduced
+/// once, for callers that take many of its elements.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Permutation {
+    /// `n`, at least 1.
+    l: u32,
+    /// The mask of the next power of two minus one.
+    w: u32,
+    /// The seed folded into 32 well-mixed bits.
+    p: u32,
+    /// `p mod l`: the final offset.
+    offset: u32,
+}
+
+impl Permutation {
+    /// The permutation of `0..n` chosen by `seed`.
+    #[inline]
+    pub fn new(n: u32, seed: u64) -> Self {
+        let l = n.max(1);
+        // Fold the 64-bit seed into 32 well-mixed bits.
+        let p = (mix(seed ^ SEED_OFFSET) >> 32) as u32;
+        let mut w = l - 1;
+        w |= w >> 1;
+        w |= w >> 2;
+        w |= w >> 4;
+        w |= w >> 8;
+        w |= w >> 16;
+        Self { l, w, p, offset: p % l }
     }
-    ((u64::from(i) + u64::from(p)) % u64::from(l)) as u32
+
+    /// The element at position `index` (taken modulo `n`).
+    #[inline]
+    pub fn at(self, index: u32) -> u32 {
+        let Self { l, w, p, offset } = self;
+        let mut i = index % l;
+        // Every step is a bijection on the low bits under the mask `w`, so the loop visits a
+        // cycle of that bijection and stops at the first element inside `0..l`.
+        loop {
+            i ^= p;
+            i = i.wrapping_mul(0xe170_893d);
+            i ^= p >> 16;
+            i ^= (i & w) >> 4;
+            i ^= p >> 8;
+            i = i.wrapping_mul(0x0929_eb3f);
+            i ^= p >> 23;
+            i ^= (i & w) >> 1;
+            i = i.wrapping_mul(1 | p >> 27);
+            i = i.wrapping_mul(0x6935_fa69);
+            i ^= (i & w) >> 11;
+            i = i.wrapping_mul(0x74dc_b303);
+            i ^= (i & w) >> 2;
+            i = i.wrapping_mul(0x9e50_1cc3);
+            i ^= (i & w) >> 2;
+            i = i.wrapping_mul(0xc860_a3df);
+            i &= w;
+            i ^= i >> 5;
+            if i < l {
+                break;
+            }
+        }
+        // `(i + p) mod l` without a 64-bit division: `i < l` and `offset < l`, so one
+        // subtraction reduces the sum (in 64 bits: it may pass 2³²).
+        let sum = u64::from(i) + u64::from(offset);
+        (if sum >= u64::from(l) { sum - u64::from(l) } else { sum }) as u32
+    }
 }
 
 #[cfg(test)]
@@ -379,6 +436,47 @@ mod tests {
                     assert!(!seen[j as usize], "n {n} seed {seed}: {j} twice");
                     seen[j as usize] = true;
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn permute_keeps_its_values() {
+        // Computed by the version that reduced `(i + p) mod n` with a 64-bit division (before
+        // `Permutation` reduced the offset once): every image's strata depend on these.
+        let cases: [(u32, u32, u64, u32); 12] = [
+            (0, 16, 1, 13),
+            (5, 16, 1, 9),
+            (15, 16, 3735928559, 3),
+            (3, 10, 42, 6),
+            (9, 10, 42, 0),
+            (100, 257, 7, 67),
+            (1, 3, u64::MAX, 0),
+            (12345, 100000, 99, 62736),
+            (4000000000, 4294967295, 3, 487368322),
+            (4294967294, 4294967295, 12, 2368662622),
+            (7, 4000000000, 5, 827656666),
+            (2500000000, 3000000000, 77, 502435107),
+        ];
+        for (index, n, seed, expected) in cases {
+            assert_eq!(permute(index, n, seed), expected, "permute({index}, {n}, {seed})");
+            assert_eq!(Permutation::new(n, seed).at(index), expected);
+        }
+    }
+
+    #[test]
+    fn a_dimension_hashes_every_field_in_four_rounds() {
+        let k = key(3, 9, 77, 5);
+        for dim in [0, 1, 40] {
+            let d = Dimension::new(&k, dim);
+            for index in [0, 1, 1000, u32::MAX] {
+                // The hash as the sampling module defines it, round by round.
+                let mut h = mix(k.seed ^ SEED_OFFSET);
+                h = mix(h ^ ((u64::from(k.pixel) << 32) | u64::from(k.sample)));
+                h = mix(h ^ ((u64::from(k.frame) << 32) | u64::from(dim)));
+                let h = mix(h ^ u64::from(index));
+                assert_eq!(d.hash(index), h);
+                assert_eq!(d.uniform2(index), Vec2::new(unit_f32(h >> 40), unit_f32(h >> 16)));
             }
         }
     }

@@ -8,7 +8,7 @@ use super::stats::RayCounts;
 use crate::accel::walk;
 use crate::math::{reflect, refract, Ray, Vec2, Vec3};
 use crate::sample::pattern::square_point;
-use crate::sample::rng::{hash, permute, uniform2, SampleKey, SampleStream};
+use crate::sample::rng::{hash, Dimension, Permutation, SampleKey, SampleStream};
 use crate::sample::warp::cone;
 use crate::store::{Hit, NoTally, PrimitiveStore, SurfacePoint, Tally, TraversalCost};
 
@@ -382,12 +382,11 @@ impl<'a> PathContext<'a> {
         let share = n.div_ceil(c.spp);
         let first = c.slot.wrapping_mul(share);
         EffectSamples {
-            pixel: c.pixel,
-            dim,
+            points: Dimension::new(&c.pixel, dim),
             n,
             next: first,
             end: first.wrapping_add(share),
-            order: hash(&c.pixel, dim, u32::MAX),
+            order: Permutation::new(n, hash(&c.pixel, dim, u32::MAX)),
         }
     }
 }
@@ -396,12 +395,13 @@ impl<'a> PathContext<'a> {
 /// [`PathContext::effect_samples`].
 #[derive(Debug, Clone)]
 pub struct EffectSamples {
-    pixel: SampleKey,
-    dim: u32,
+    /// The pixel's points in this effect's dimension.
+    points: Dimension,
     n: u32,
     next: u32,
     end: u32,
-    order: u64,
+    /// The order strata are visited in.
+    order: Permutation,
 }
 
 impl EffectSamples {
@@ -426,7 +426,7 @@ impl Iterator for EffectSamples {
         }
         let g = self.next;
         self.next = self.next.wrapping_add(1);
-        Some((permute(g % self.n, self.n, self.order), uniform2(&self.pixel, self.dim, g)))
+        Some((self.order.at(g % self.n), self.points.uniform2(g)))
     }
 }
 
