@@ -522,6 +522,53 @@ proptest! {
         }
     }
 
+    /// The lane-wise plane kernel equals [`plane::intersect`] bit for bit on every lane, at
+    /// every SIMD level: planes at any tilt and distance, rays towards and away from them,
+    /// parallel ones (some exactly, with ±0.0 components), origins on the plane, finite ranges.
+    #[test]
+    fn the_plane_lane_kernel_equals_the_scalar_kernel_bit_for_bit(
+        normal in common::strategies::point(1.0),
+        axis_aligned in any::<bool>(),
+        offset in prop_oneof![-1e4f32..1e4, Just(0.0f32)],
+        rays in proptest::collection::vec(
+            (common::strategies::point(100.0), common::strategies::point(1.0), 0u8..4, 0.0f32..2.0, 0.5f32..50.0),
+            8,
+        ),
+    ) {
+        use penumbra::geom::plane;
+        let normal = if axis_aligned { Vec3::Y } else { normal.normalize_or(Vec3::Z) };
+        let mut p = RayPacket::<8>::default();
+        let mut t_min = [0.0f32; 8];
+        for (i, (origin, dir, kind, lo, hi)) in rays.iter().enumerate() {
+            let (origin, dir) = match kind {
+                // Parallel to the plane: a direction with no component along the normal.
+                0 => (*origin, (*dir - normal * dir.dot(normal)).normalize_or(normal.any_orthonormal_vector())),
+                // Exactly parallel to an axis-aligned plane, with a -0.0 component.
+                1 if axis_aligned => (*origin, Vec3::new(dir.x, -0.0, dir.z).normalize_or(Vec3::X)),
+                // Starting on the plane.
+                2 => (*origin - normal * (normal.dot(*origin) - offset), dir.normalize_or(Vec3::X)),
+                _ => (*origin, dir.normalize_or(Vec3::X)),
+            };
+            t_min[i] = if i % 3 == 0 { *lo } else { 0.0 };
+            p.set(i, &Ray::new(origin, dir), t_min[i], if i % 2 == 0 { *hi } else { f32::INFINITY });
+        }
+        let live = [true, true, true, true, true, true, false, true];
+        let want: Vec<Option<u32>> = (0..8)
+            .map(|i| {
+                if !live[i] { return None; }
+                plane::intersect(normal, offset, &p.ray(i), t_min[i], p.t_max[i]).map(f32::to_bits)
+            })
+            .collect();
+        for level in SimdLevel::ALL {
+            let got = level.run(#[inline(always)] || {
+                let mut got = [None; 8];
+                plane::intersect_lanes(normal, offset, &p, &live, &t_min, &p.t_max, |i, t| got[i] = Some(t.to_bits()));
+                got
+            });
+            prop_assert_eq!(got.to_vec(), want.clone(), "at {}", level);
+        }
+    }
+
     /// One ray against a cell's triangles at once ([`triangle::nearest_in_block`]) finds what
     /// testing them one by one in order finds (the same triangle, the first of equally near ones,
     /// and the same bits), at every SIMD level: shared edges and vertices hit exactly, repeats,

@@ -244,6 +244,12 @@ impl PrimitiveStore for AosStore {
     }
 
     #[inline]
+    fn unbounded_plane(&self, i: u32) -> (Vec3, f32) {
+        let p = &self.planes[i as usize];
+        (p.normal, p.offset)
+    }
+
+    #[inline]
     fn intersect_unbounded(&self, i: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
         let p = &self.planes[i as usize];
         plane::intersect(p.normal, p.offset, ray, t_min, t_max)

@@ -228,6 +228,26 @@ pub trait PrimitiveStore: Send + Sync + Sized + std::fmt::Debug + 'static {
     fn unbounded_count(&self) -> u32;
     /// Hit with unbounded object `i` in `(t_min, t_max)`.
     fn intersect_unbounded(&self, i: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit>;
+    /// Unbounded object `i`, a plane `normal · p = offset`: `(normal, offset)`.
+    fn unbounded_plane(&self, i: u32) -> (Vec3, f32);
+    /// The packet form of [`PrimitiveStore::intersect_unbounded`]: each `live` lane's hit with
+    /// unbounded object `i` within `(t_min, bound)` goes to `record(lane, hit)`, lane-wise
+    /// ([`crate::geom::plane::intersect_lanes`]); lane for lane the single-ray method's hits.
+    #[inline(always)]
+    fn intersect_unbounded_packet<const N: usize>(
+        &self,
+        i: u32,
+        packet: &RayPacket<N>,
+        live: &[bool; N],
+        t_min: &[f32; N],
+        bound: &[f32; N],
+        mut record: impl FnMut(usize, Hit),
+    ) {
+        let (normal, offset) = self.unbounded_plane(i);
+        crate::geom::plane::intersect_lanes(normal, offset, packet, live, t_min, bound, |lane, t| {
+            record(lane, Hit::new(t, i | UNBOUNDED_FLAG, 0))
+        });
+    }
     /// Material of the object hit.
     fn material(&self, hit: &Hit) -> MaterialId;
     /// Position, normals and material at a hit.

@@ -368,6 +368,11 @@ impl PrimitiveStore for SoaStore {
     }
 
     #[inline]
+    fn unbounded_plane(&self, i: u32) -> (Vec3, f32) {
+        (self.plane_normal.get(i as usize), self.plane_offset[i as usize])
+    }
+
+    #[inline]
     fn intersect_unbounded(&self, i: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
         let p = i as usize;
         plane::intersect(self.plane_normal.get(p), self.plane_offset[p], ray, t_min, t_max)

@@ -65,14 +65,13 @@ pub fn closest_hits<const N: usize, S: PrimitiveStore>(
     }
     let store = &scene.store;
     let mut hits = PacketHits::new(packet);
+    let lanes = packet.active.iter().filter(|&&a| a).count() as u32;
     for p in 0..store.unbounded_count() {
-        for i in 0..N {
-            if packet.active[i] {
-                cost.tests += 1;
-                let ray = packet.ray(i);
-                hits.offer(i, store.intersect_unbounded(p, &ray, packet.t_min[i], hits.t[i]));
-            }
-        }
+        cost.tests += lanes;
+        let bound = hits.t;
+        store.intersect_unbounded_packet(p, packet, &packet.active, &packet.t_min, &bound, |i, h| {
+            hits.offer(i, Some(h))
+        });
     }
     let mut sink = Objects { store, packet, hits, cost: TraversalCost::default() };
     let mut cells = 0;
@@ -289,13 +288,21 @@ fn planes_part<const N: usize, S: PrimitiveStore>(
     packet: &RayPacket<N>,
     cost: &mut TraversalCost,
 ) -> ([f32; N], [bool; N]) {
-    let mut pass = [0.0f32; N];
-    let mut open = [false; N];
-    for i in 0..N {
-        if packet.active[i] {
-            pass[i] = super::integrator::planes_transmittance(scene, &packet.ray(i), packet.t_max[i], cost);
-            open[i] = pass[i] != 0.0;
-        }
+    // Lane-wise, plane by plane: each lane multiplies its planes' `kt` in the single ray's order
+    // and stops (blocked) where it would return 0.
+    let store = &scene.store;
+    let mut pass = packet.active.map(|a| if a { 1.0f32 } else { 0.0 });
+    let mut open = packet.active;
+    for p in 0..store.unbounded_count() {
+        let live = open;
+        cost.tests += live.iter().filter(|&&l| l).count() as u32;
+        store.intersect_unbounded_packet(p, packet, &live, &[0.0; N], &packet.t_max, |i, h| {
+            pass[i] *= scene.material(store.material(&h)).kt;
+            if !scene.effects.transmission || pass[i] == 0.0 {
+                pass[i] = 0.0;
+                open[i] = false;
+            }
+        });
     }
     (pass, open)
 }
