@@ -25,14 +25,19 @@ use glam::Vec2;
 #[inline]
 pub fn strata(n: u32) -> (u32, u32) {
     let n = n.max(1);
-    // ⌊√n⌋ in a few instructions (`u32::isqrt` is a software loop, and every area-light and
-    // camera sample asks): `f64`'s square root is correctly rounded, and no `u32` lies close
-    // enough below a square (within 1/(2√n), far above f64's rounding) for it to round up.
-    let mut ny = f64::from(n).sqrt() as u32;
+    let mut ny = floor_sqrt(n);
     while !n.is_multiple_of(ny) {
         ny -= 1;
     }
     (n / ny, ny)
+}
+
+/// ⌊√n⌋ in a few instructions (`u32::isqrt` is a software loop, and every area-light and
+/// camera sample asks for strata): `f64`'s square root is correctly rounded, and no `u32` lies
+/// close enough below a square (within 1/(2√n), far above f64's rounding) for it to round up.
+#[inline]
+fn floor_sqrt(n: u32) -> u32 {
+    f64::from(n).sqrt() as u32
 }
 
 /// The `[lo, hi)` bounds of cell `i` of `cells` equal cells of `[0, 1)`, as `f32`.
@@ -166,11 +171,10 @@ mod tests {
         // The only places a rounded square root could go wrong: next to each square.
         for k in 1..=u32::from(u16::MAX) {
             for n in [k * k - 1, k * k, k * k + 1, k * k + 2 * k] {
-                let ny = f64::from(n).sqrt() as u32;
-                assert_eq!(ny, n.isqrt(), "n {n}");
+                assert_eq!(floor_sqrt(n), n.isqrt(), "n {n}");
             }
         }
-        assert_eq!(f64::from(u32::MAX).sqrt() as u32, u32::MAX.isqrt());
+        assert_eq!(floor_sqrt(u32::MAX), u32::MAX.isqrt());
         assert_eq!(strata(u32::MAX), (u32::MAX / 65535, 65535));
     }
 

@@ -11,7 +11,7 @@ use super::{
 };
 use crate::geom::mesh::MeshData;
 use crate::geom::triangle::{self, TriangleHit, WatertightRay};
-use crate::geom::{plane, sphere, Placed};
+use crate::geom::{sphere, Placed};
 use crate::math::{Affine3A, Ray, RayPacket, Vec3};
 
 /// One triangle: its three vertices side by side.
@@ -247,13 +247,6 @@ impl PrimitiveStore for AosStore {
     fn unbounded_plane(&self, i: u32) -> (Vec3, f32) {
         let p = &self.planes[i as usize];
         (p.normal, p.offset)
-    }
-
-    #[inline]
-    fn intersect_unbounded(&self, i: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
-        let p = &self.planes[i as usize];
-        plane::intersect(p.normal, p.offset, ray, t_min, t_max)
-            .map(|t| Hit::new(t, i | super::UNBOUNDED_FLAG, 0))
     }
 
     #[inline]

@@ -226,10 +226,15 @@ pub trait PrimitiveStore: Send + Sync + Sized + std::fmt::Debug + 'static {
     fn intersect_bounded_brute(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit>;
     /// Number of unbounded objects.
     fn unbounded_count(&self) -> u32;
-    /// Hit with unbounded object `i` in `(t_min, t_max)`.
-    fn intersect_unbounded(&self, i: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit>;
     /// Unbounded object `i`, a plane `normal · p = offset`: `(normal, offset)`.
     fn unbounded_plane(&self, i: u32) -> (Vec3, f32);
+    /// Hit with unbounded object `i` in `(t_min, t_max)`.
+    #[inline]
+    fn intersect_unbounded(&self, i: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        let (normal, offset) = self.unbounded_plane(i);
+        crate::geom::plane::intersect(normal, offset, ray, t_min, t_max)
+            .map(|t| Hit::new(t, i | UNBOUNDED_FLAG, 0))
+    }
     /// The packet form of [`PrimitiveStore::intersect_unbounded`]: each `live` lane's hit with
     /// unbounded object `i` within `(t_min, bound)` goes to `record(lane, hit)`, lane-wise
     /// ([`crate::geom::plane::intersect_lanes`]); lane for lane the single-ray method's hits.

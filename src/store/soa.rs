@@ -14,7 +14,7 @@ use super::{
 };
 use crate::geom::mesh::MeshData;
 use crate::geom::triangle::{self, TriangleHit, WatertightRay};
-use crate::geom::{plane, sphere, Placed};
+use crate::geom::{sphere, Placed};
 use crate::math::{Affine3A, Ray, RayPacket, Vec3};
 
 /// Kind of a bounded object, selecting which arrays its index refers to.
@@ -370,13 +370,6 @@ impl PrimitiveStore for SoaStore {
     #[inline]
     fn unbounded_plane(&self, i: u32) -> (Vec3, f32) {
         (self.plane_normal.get(i as usize), self.plane_offset[i as usize])
-    }
-
-    #[inline]
-    fn intersect_unbounded(&self, i: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
-        let p = i as usize;
-        plane::intersect(self.plane_normal.get(p), self.plane_offset[p], ray, t_min, t_max)
-            .map(|t| Hit::new(t, i | super::UNBOUNDED_FLAG, 0))
     }
 
     #[inline]

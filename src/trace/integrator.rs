@@ -8,7 +8,7 @@ use super::stats::RayCounts;
 use crate::accel::walk;
 use crate::math::{reflect, refract, Ray, Vec2, Vec3};
 use crate::sample::pattern::square_point;
-use crate::sample::rng::{hash, Dimension, Permutation, SampleKey, SampleStream};
+use crate::sample::rng::{Dimension, Permutation, SampleKey, SampleStream};
 use crate::sample::warp::cone;
 use crate::store::{Hit, NoTally, PrimitiveStore, SurfacePoint, Tally, TraversalCost};
 
@@ -381,12 +381,13 @@ impl<'a> PathContext<'a> {
         let c = &self.camera;
         let share = n.div_ceil(c.spp);
         let first = c.slot.wrapping_mul(share);
+        let points = Dimension::new(&c.pixel, dim);
         EffectSamples {
-            points: Dimension::new(&c.pixel, dim),
+            points,
             n,
             next: first,
             end: first.wrapping_add(share),
-            order: Permutation::new(n, hash(&c.pixel, dim, u32::MAX)),
+            order: Permutation::new(n, points.hash(u32::MAX)),
         }
     }
 }

@@ -32,7 +32,7 @@ use crate::film::{AovSet, Aovs, Film};
 use crate::math::{Ray, RayPacket, Vec2, Vec3, SHADOW_EPSILON};
 use crate::sample::adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint};
 use crate::sample::pattern::{disk_point, disk_point_in, square_point_in, strata};
-use crate::sample::rng::{hash, permute, uniform2, SampleKey};
+use crate::sample::rng::{permute, uniform2, Dimension, SampleKey};
 use crate::sample::warp::tent;
 use crate::sample::{Filter, Pattern};
 use crate::simd::SimdLevel;
@@ -209,10 +209,7 @@ pub fn render_observed<S: PrimitiveStore>(
         dropped: dropped.finish(settings.width),
         samples_per_pixel: match settings.adaptive {
             Some(_) => 0,
-            None => {
-                let lens = if scene.camera.has_lens() { settings.lens.samples.max(1) } else { 1 };
-                settings.aa.sampling.samples.max(1) * lens
-            }
+            None => CameraSampler::new(scene, settings).n,
         },
         ..Default::default()
     };
@@ -374,9 +371,9 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
         let ray = if scene.camera.has_lens() {
             // Lens points are stratified over all n samples, in an order decorrelated from the
             // pixel positions.
-            let k = permute(sample, self.n, hash(&patterns, DIM_LENS, u32::MAX));
-            let lens =
-                disk_point_in(settings.lens.pattern, self.lens_strata, k, uniform2(&patterns, DIM_LENS, k));
+            let lens_points = Dimension::new(&patterns, DIM_LENS);
+            let k = permute(sample, self.n, lens_points.hash(u32::MAX));
+            let lens = disk_point_in(settings.lens.pattern, self.lens_strata, k, lens_points.uniform2(k));
             rays.lens += 1;
             scene.camera.lens_ray(px, py, settings.width, settings.height, lens)
         } else {
