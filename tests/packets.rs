@@ -668,3 +668,127 @@ proptest! {
         }
     }
 }
+
+/// A mesh of axis-aligned boxes (twelve triangles each): faces whose bounds are flat on one
+/// axis, edges along the axes, corners shared by six faces.
+fn boxes_mesh() -> MeshData {
+    let mut positions = Vec::new();
+    let mut indices = Vec::new();
+    for (k, (lo, hi)) in [
+        (Vec3::new(-1.3, -0.7, -0.9), Vec3::new(0.2, 0.45, 0.35)),
+        (Vec3::new(0.2, -0.7, -0.9), Vec3::new(1.15, 1.3, 0.05)),
+        (Vec3::new(-0.6, 0.45, -0.2), Vec3::new(0.2, 0.9, 1.1)),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let base = (k * 8) as u32;
+        for c in 0..8 {
+            let pick = |bit: usize, a: f32, b: f32| if c & bit == 0 { a } else { b };
+            positions.push(Vec3::new(pick(1, lo.x, hi.x), pick(2, lo.y, hi.y), pick(4, lo.z, hi.z)));
+        }
+        for [a, b, c, d] in
+            [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]]
+        {
+            indices.push([base + a, base + b, base + c]);
+            indices.push([base + a, base + c, base + d]);
+        }
+    }
+    let bounds = penumbra::math::Aabb::from_points(positions.iter().copied());
+    MeshData { positions, normals: Vec::new(), indices, bounds }
+}
+
+/// Rays through mesh vertices and through the points where mesh edges cross the mesh grid's
+/// walls: the places where a lane's hit lies exactly on the boundary of a triangle's bounds or
+/// of a slice, so the walk's footprints must cover the rounding of the lanes' coordinates.
+/// Packets of 16 lanes aimed at neighbouring such points, as parallel rays and from a shared
+/// origin, get the single rays' hits and shadow answers bit for bit.
+#[test]
+fn packets_through_vertices_and_edge_wall_crossings_equal_single_rays() {
+    let meshes = vec![asset(icosphere(Vec3::ZERO, 1.0, 3)), asset(boxes_mesh())];
+    let mut rng = rng(0xfeed);
+    let (mut lanes, mut hits, mut ties) = (0, 0, 0);
+    for (m, mesh) in meshes.iter().enumerate() {
+        let objects = vec![PlacedObject {
+            geometry: Shape::Mesh { mesh: MeshId(m as u32), bounds: mesh.data.bounds }
+                .place(&glam::DAffine3::IDENTITY, DVec3::ZERO),
+            material: MaterialId(0),
+        }];
+        let scene: TraceScene = TraceScene::build_with_meshes(
+            &objects,
+            &meshes,
+            common::tables_with(vec![Material::default()], Vec3::new(0.0, 0.0, 30.0)),
+            3.0,
+        );
+        // Targets: the vertices, and each edge's crossings of the grid's walls.
+        let grid = &mesh.grid;
+        let mut targets: Vec<Vec3> = mesh.data.positions.clone();
+        for f in &mesh.data.indices {
+            for e in 0..3 {
+                let (a, b) =
+                    (mesh.data.positions[f[e] as usize], mesh.data.positions[f[(e + 1) % 3] as usize]);
+                for axis in 0..3 {
+                    for &w in &grid.walls[axis] {
+                        let s = (w - a[axis]) / (b[axis] - a[axis]);
+                        if s > 0.0 && s < 1.0 {
+                            let mut p = a + (b - a) * s;
+                            p[axis] = w;
+                            targets.push(p);
+                        }
+                    }
+                }
+            }
+        }
+        for round in 0..300 {
+            let anchor = targets[rng.random_range(0..targets.len())];
+            let mut near = targets.clone();
+            near.sort_by(|p, q| (*p - anchor).length_squared().total_cmp(&(*q - anchor).length_squared()));
+            let d = unit_vector(&mut rng);
+            let shared = round % 2 == 1;
+            let eye = anchor - d * 6.0;
+            let mut p = RayPacket::<LANES>::default();
+            for (i, &q) in near.iter().take(LANES).enumerate() {
+                let ray =
+                    if shared { Ray::new(eye, (q - eye).normalize()) } else { Ray::new(q - d * 6.0, d) };
+                p.set(i, &ray, 0.0, if round % 4 < 2 { f32::INFINITY } else { 6.0 + 1e-3 });
+            }
+            for level in [SimdLevel::Baseline, SimdLevel::Auto] {
+                let got = level.run(
+                    #[inline(always)]
+                    || closest_hits(&scene, &p, &mut TraversalCost::default()),
+                );
+                let blocked = level.run(
+                    #[inline(always)]
+                    || occluded(&scene, &p, &mut TraversalCost::default()),
+                );
+                for i in 0..LANES {
+                    let want = closest_hit(&scene, &p.ray(i), p.t_min[i], p.t_max[i]);
+                    let what = format!("mesh {m}, round {round}, lane {i} ({level})");
+                    match (got.hit[i], want) {
+                        // Through a vertex or along an edge two triangles may hold the same
+                        // nearest point; each walk keeps the first it tests. The packet's must
+                        // really be hit there.
+                        (Some(g), Some(w)) if g.prim != w.prim => {
+                            assert_eq!(g.t.to_bits(), w.t.to_bits(), "{what}");
+                            let [a, b, c] =
+                                mesh.data.indices[g.prim as usize].map(|k| mesh.data.positions[k as usize]);
+                            let ray = WatertightRay::new(&p.ray(i));
+                            let again = triangle::intersect(a, b, c, &ray, p.t_min[i], g.t.next_up());
+                            assert_eq!(again.map(|h| h.t.to_bits()), Some(g.t.to_bits()), "{what}: a tie");
+                            ties += 1;
+                        }
+                        _ => assert_eq!(bits(got.hit[i]), bits(want), "{what}"),
+                    }
+                    let shadow = penumbra::trace::transmittance(&scene, &p.ray(i), p.t_max[i]) == 0.0;
+                    assert_eq!(blocked[i], shadow, "mesh {m}, round {round}, lane {i} ({level}): shadow");
+                    if level == SimdLevel::Auto {
+                        lanes += 1;
+                        hits += usize::from(want.is_some());
+                    }
+                }
+            }
+        }
+    }
+    assert!(hits * 10 > lanes * 7, "the targets lie on the meshes: {hits} hits of {lanes} lanes");
+    assert!(ties * 20 < hits, "ties are the exception: {ties} of {hits} hits");
+}

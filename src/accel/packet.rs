@@ -9,19 +9,28 @@
 //! lanes' coordinates), and a lane stops only once its nearest hit lies before the far wall of
 //! the slice just searched, as a single ray stops at the end of its cell: the objects a lane is
 //! tested against include every one its single-ray walk would have found nearest.
+//!
+//! Each slice also hands the sink its *footprint*: the box of the walking lanes' points in the
+//! slice, widened by the same margin plus the rounding of the kernels' differences from the
+//! origins. A sink may decline an object whose bounds miss it (mesh triangles do: a mesh
+//! cell holds about twenty triangles of which the packet's few lanes meet only some), and a
+//! declined object stays out of the mailbox, so it is offered again in any later slice.
 
 // Lane loops index several parallel lane arrays by the same lane number.
 #![allow(clippy::needless_range_loop)]
 
 use super::grid::UniformGrid;
-use crate::math::{RayPacket, Vec3};
+use crate::math::{Aabb, RayPacket, Vec3};
 
 /// What a packet's walk does with the objects it meets.
 pub trait PacketSink<const N: usize> {
     /// Each lane's current search bound (its nearest hit so far).
     fn bound(&self) -> &[f32; N];
-    /// Tests object `id` against the `live` lanes.
-    fn visit(&mut self, id: u32, live: &[bool; N]);
+    /// Tests object `id` against the `live` lanes, or declines it: `footprint` holds every
+    /// point of the live lanes within the slice being searched (widened by the rounding margin),
+    /// so an object whose bounds miss it cannot be hit there. Returns whether the object was
+    /// tested; one declined is offered again in every later slice whose cells hold it.
+    fn visit(&mut self, id: u32, live: &[bool; N], footprint: &Aabb) -> bool;
 }
 
 /// Widening of a slice's rectangle, as a fraction of a cell: covers the rounding of the lanes'
@@ -39,12 +48,14 @@ const CELLS_PER_LANE: i64 = 3;
 const MAILBOX: usize = 64;
 
 /// The rectangle of cells (inclusive ranges on the two cross axes) that holds every walking
-/// lane's points between two walls of the dominant axis, widened by the rounding margin;
-/// `None` when no lane has points there.
+/// lane's points between two walls of the dominant axis, widened by the rounding margin, and
+/// the box of those points itself (in the grid's own axes); `None` when no lane has points
+/// there.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Rect {
     u: [i64; 2],
     v: [i64; 2],
+    footprint: Aabb,
 }
 
 /// The smaller of two floats by one compare (no NaN handling: the walk's values are finite or
@@ -76,6 +87,10 @@ struct Frame<'a, const N: usize> {
     d: [[f32; N]; 3],
     inv_k: [f32; N],
     t_min: [f32; N],
+    /// Extra widening of footprints for the rounding of the lanes' own coordinates and of the
+    /// kernels' differences from the origins: [`MARGIN_RELATIVE`] of the largest origin
+    /// coordinate.
+    slack: f32,
 }
 
 impl<const N: usize> Frame<'_, N> {
@@ -127,13 +142,19 @@ impl<const N: usize> Frame<'_, N> {
         }
         let g = self.grid;
         let mut out = [[0i64; 2]; 2];
+        let (mut lo, mut hi) = ([0.0f32; 3], [0.0f32; 3]);
         for c in 0..2 {
             let axis = self.axes[c + 1];
             let [l, h] = ext[c];
             let margin = MARGIN_CELLS * g.cell_size[axis] + MARGIN_RELATIVE * l.abs().max(h.abs());
             out[c] = [self.cell_of(axis, l - margin), self.cell_of(axis, h + margin)];
+            (lo[axis], hi[axis]) = (l - margin - self.slack, h + margin + self.slack);
         }
-        Some(Rect { u: out[0], v: out[1] })
+        let k = self.axes[0];
+        let (wl, wh) = (min(wa, wb), max(wa, wb));
+        let margin = MARGIN_CELLS * g.cell_size[k] + MARGIN_RELATIVE * wl.abs().max(wh.abs()) + self.slack;
+        (lo[k], hi[k]) = (wl - margin, wh + margin);
+        Some(Rect { u: out[0], v: out[1], footprint: Aabb::new(Vec3::from(lo), Vec3::from(hi)) })
     }
 }
 
@@ -194,6 +215,14 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
         }
     }
     let axes = [k, (k + 1) % 3, (k + 2) % 3];
+    let mut reach = 0.0f32;
+    for i in 0..N {
+        if inside[i] {
+            for a in 0..3 {
+                reach = max(reach, packet.origin[a][i].abs());
+            }
+        }
+    }
     let frame = Frame {
         grid,
         axes,
@@ -201,6 +230,7 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
         d: axes.map(|a| packet.dir[a]),
         inv_k: packet.inv_dir[k],
         t_min: packet.t_min,
+        slack: MARGIN_RELATIVE * reach,
     };
     // The slices the lanes cross, from their entry and exit points along the dominant axis.
     let (mut near, mut far) = (f32::INFINITY, f32::NEG_INFINITY);
@@ -251,11 +281,9 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
                     *cells += 1;
                     for &id in prims {
                         let slot = &mut mail[id as usize % MAILBOX];
-                        if *slot == id {
-                            continue;
+                        if *slot != id && sink.visit(id, &walking, &r.footprint) {
+                            *slot = id;
                         }
-                        *slot = id;
-                        sink.visit(id, &walking);
                     }
                 }
             }

@@ -8,7 +8,7 @@
 use super::{Hit, MeshEntry, TraversalCost, TriangleLayout};
 use crate::accel::packet::{coherent_walk, PacketSink};
 use crate::geom::triangle::{triangle_lanes, TriangleHit, WatertightPacket};
-use crate::math::RayPacket;
+use crate::math::{Aabb, RayPacket};
 
 /// Each lane's nearest hit so far; `t` bounds the search (a lane's `t_max` until it hits).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -64,12 +64,16 @@ pub fn mesh_hits<const N: usize, L: TriangleLayout>(
             self.bound
         }
         #[inline(always)]
-        fn visit(&mut self, id: u32, live: &[bool; N]) {
+        fn visit(&mut self, id: u32, live: &[bool; N], footprint: &Aabb) -> bool {
+            let vertices = self.triangles.vertices(id);
+            let [a, b, c] = vertices;
+            if !footprint.overlaps(&Aabb::new(a.min(b).min(c), a.max(b).max(c))) {
+                return false;
+            }
             self.tests += lanes(live);
             let record = &mut self.record;
-            triangle_lanes(self.triangles.vertices(id), &self.w, live, &self.t_min, self.bound, |i, h| {
-                record(i, id, h)
-            });
+            triangle_lanes(vertices, &self.w, live, &self.t_min, self.bound, |i, h| record(i, id, h));
+            true
         }
     }
     let grid = &mesh.asset.grid;

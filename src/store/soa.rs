@@ -113,7 +113,7 @@ impl TriangleLayout for SoaTriangles {
         self.v0.x.len() as u32
     }
 
-    #[inline]
+    #[inline(always)]
     fn vertices(&self, i: u32) -> [Vec3; 3] {
         let i = i as usize;
         [self.v0.get(i), self.v1.get(i), self.v2.get(i)]
