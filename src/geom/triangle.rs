@@ -303,15 +303,18 @@ pub fn nearest_in_block<const N: usize>(
     best
 }
 
-/// A packet prepared for watertight triangle tests: the lanes' shear constants, and the axis
-/// permutation when all live lanes share it (else each lane keeps its own [`WatertightRay`]).
+/// A packet prepared for watertight triangle tests: each lane's axis permutation, origin in
+/// its permuted axes and shear constants, and the permutation all live lanes share when they
+/// do (the common case, which needs no per-lane selection of vertex coordinates).
 #[derive(Debug, Clone, Copy)]
 pub struct WatertightPacket<const N: usize> {
-    /// Each lane's own prepared ray (the scalar kernel's input).
+    /// Each lane's own prepared ray (the scalar kernel's input, for edge cases).
     rays: [Option<WatertightRay>; N],
     /// The shared permutation `(kx, ky, kz)`, when there is one.
     common: Option<[usize; 3]>,
-    /// Origins in the permuted axes.
+    /// Each lane's permutation, axis by axis (`0`, `1` or `2`).
+    perm: [[u32; N]; 3],
+    /// Origins in each lane's permuted axes.
     o: [[f32; N]; 3],
     sx: [f32; N],
     sy: [f32; N],
@@ -319,7 +322,8 @@ pub struct WatertightPacket<const N: usize> {
 }
 
 impl<const N: usize> WatertightPacket<N> {
-    /// The axis permutation all live lanes share, if they do (the vector kernel needs one).
+    /// The axis permutation all live lanes share, if they do (the kernel then reads the
+    /// vertices' coordinates once for all lanes).
     pub fn common_permutation(&self) -> Option<[usize; 3]> {
         self.common
     }
@@ -331,6 +335,7 @@ impl<const N: usize> WatertightPacket<N> {
         let mut p = Self {
             rays: [None; N],
             common: None,
+            perm: [[0; N]; 3],
             o: [[0.0; N]; 3],
             sx: [0.0; N],
             sy: [0.0; N],
@@ -348,6 +353,10 @@ impl<const N: usize> WatertightPacket<N> {
                 Some(c) if c != perm => shared = false,
                 _ => {}
             }
+            for c in 0..3 {
+                p.perm[c][i] = perm[c] as u32;
+                p.o[c][i] = packet.origin[perm[c]][i];
+            }
             let (sx, sy, sz) = w.shear_constants();
             (p.sx[i], p.sy[i], p.sz[i]) = (sx, sy, sz);
             p.rays[i] = Some(w);
@@ -355,79 +364,114 @@ impl<const N: usize> WatertightPacket<N> {
         if !shared {
             p.common = None;
         }
-        if let Some(perm) = p.common {
-            for (slot, &axis) in p.o.iter_mut().zip(&perm) {
-                *slot = packet.origin[axis];
-            }
-        }
         p
     }
 }
 
-/// Tests triangle `[v0, v1, v2]` (number `index`) against the `live` lanes, each within
-/// `(t_min, best.t)`; a lane it hits nearer gets `record(lane, index, hit)` and its bound moves.
-/// Bit for bit [`triangle::intersect`] on every lane.
+/// Tests triangle `[v0, v1, v2]` against the `live` lanes, each within `(t_min, bound)`; a
+/// lane it hits nearer gets `record(lane, hit)` and its bound moves. Bit for bit
+/// [`triangle::intersect`] on every lane: lanes that share a permutation read the permuted
+/// vertices once, lanes that do not each select their own coordinates.
 #[inline(always)]
-#[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
 pub fn triangle_lanes<const N: usize>(
     [v0, v1, v2]: [Vec3; 3],
     w: &WatertightPacket<N>,
     live: &[bool; N],
     t_min: &[f32; N],
     bound: &mut [f32; N],
-    mut record: impl FnMut(usize, TriangleHit),
+    record: impl FnMut(usize, TriangleHit),
 ) {
-    let Some([kx, ky, kz]) = w.common else {
-        for i in 0..N {
-            if let (true, Some(ray)) = (live[i], &w.rays[i]) {
-                if let Some(h) = intersect(v0, v1, v2, ray, t_min[i], bound[i]) {
-                    bound[i] = h.t;
-                    record(i, h);
-                }
-            }
+    match w.common {
+        Some([kx, ky, kz]) => {
+            let p = [[v0[kx], v0[ky], v0[kz]], [v1[kx], v1[ky], v1[kz]], [v2[kx], v2[ky], v2[kz]]];
+            lanes_with([v0, v1, v2], w, live, t_min, bound, record, |j, _| p[j])
         }
-        return;
-    };
-    let p = [[v0[kx], v0[ky], v0[kz]], [v1[kx], v1[ky], v1[kz]], [v2[kx], v2[ky], v2[kz]]];
-    let mut hit = [false; N];
-    let mut exact = [false; N];
-    let mut t_hit = [0.0f32; N];
-    let mut det_hit = [0.0f32; N];
-    let mut vw = [[0.0f32; N]; 2];
+        None => {
+            let v = [v0, v1, v2];
+            // Selections, not indexing, so the lanes stay in vector registers.
+            let pick = |a: Vec3, k: u32| {
+                if k == 0 {
+                    a.x
+                } else if k == 1 {
+                    a.y
+                } else {
+                    a.z
+                }
+            };
+            lanes_with(v, w, live, t_min, bound, record, |j, i| {
+                [pick(v[j], w.perm[0][i]), pick(v[j], w.perm[1][i]), pick(v[j], w.perm[2][i])]
+            })
+        }
+    }
+}
+
+/// [`triangle_lanes`] with vertex `j` in lane `i`'s permuted axes given by `permuted(j, i)`.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
+fn lanes_with<const N: usize>(
+    [v0, v1, v2]: [Vec3; 3],
+    w: &WatertightPacket<N>,
+    live: &[bool; N],
+    t_min: &[f32; N],
+    bound: &mut [f32; N],
+    mut record: impl FnMut(usize, TriangleHit),
+    permuted: impl Fn(usize, usize) -> [f32; 3],
+) {
+    const { assert!(N <= 64, "lane masks are 64 bits") };
+    // First the edge functions: most tests end here, with no lane inside the triangle, before
+    // the division and before any per-lane branch.
+    let mut uve = [[0.0f32; N]; 3];
+    let mut z = [[0.0f32; N]; 3];
+    let mut inside = 0u64;
+    let mut exact = 0u64;
     for i in 0..N {
         // The scalar kernel's shear: `a = p − o`, then `(a_x − s_x·a_z, a_y − s_y·a_z, s_z·a_z)`.
         let shear = |q: [f32; 3]| {
             let (ax, ay, az) = (q[0] - w.o[0][i], q[1] - w.o[1][i], q[2] - w.o[2][i]);
             (ax - w.sx[i] * az, ay - w.sy[i] * az, w.sz[i] * az)
         };
-        let (ax, ay, az) = shear(p[0]);
-        let (bx, by, bz) = shear(p[1]);
-        let (cx, cy, cz) = shear(p[2]);
+        let (ax, ay, az) = shear(permuted(0, i));
+        let (bx, by, bz) = shear(permuted(1, i));
+        let (cx, cy, cz) = shear(permuted(2, i));
         let u = cx * by - cy * bx;
         let v = ax * cy - ay * cx;
         let e = bx * ay - by * ax;
-        exact[i] = live[i] & ((u == 0.0) | (v == 0.0) | (e == 0.0));
+        let on_edge = live[i] & ((u == 0.0) | (v == 0.0) | (e == 0.0));
         let outside = ((u < 0.0) | (v < 0.0) | (e < 0.0)) & ((u > 0.0) | (v > 0.0) | (e > 0.0));
+        inside |= u64::from(live[i] & !on_edge & !outside) << i;
+        exact |= u64::from(on_edge) << i;
+        (uve[0][i], uve[1][i], uve[2][i]) = (u, v, e);
+        (z[0][i], z[1][i], z[2][i]) = (az, bz, cz);
+    }
+    if inside | exact == 0 {
+        return;
+    }
+    let mut hit = 0u64;
+    let mut t_hit = [0.0f32; N];
+    let mut det_hit = [0.0f32; N];
+    for i in 0..N {
+        let (u, v, e) = (uve[0][i], uve[1][i], uve[2][i]);
         let det = u + v + e;
-        let t = (u * az + v * bz + e * cz) / det;
-        hit[i] = live[i] & !exact[i] & !outside & (det != 0.0) & (t > t_min[i]) & (t < bound[i]);
+        let t = (u * z[0][i] + v * z[1][i] + e * z[2][i]) / det;
+        let good = (inside >> i) & 1 == 1;
+        hit |= u64::from(good & (det != 0.0) & (t > t_min[i]) & (t < bound[i])) << i;
         t_hit[i] = t;
         det_hit[i] = det;
-        vw[0][i] = v;
-        vw[1][i] = e;
     }
-    for i in 0..N {
-        if hit[i] {
+    // Lanes in increasing order, as the scalar loop would take them.
+    let mut todo = hit | exact;
+    while todo != 0 {
+        let i = todo.trailing_zeros() as usize;
+        todo &= todo - 1;
+        if (hit >> i) & 1 == 1 {
             let det = det_hit[i];
             bound[i] = t_hit[i];
-            record(i, TriangleHit { t: t_hit[i], u: vw[0][i] / det, v: vw[1][i] / det });
-        } else if exact[i] {
+            record(i, TriangleHit { t: t_hit[i], u: uve[1][i] / det, v: uve[2][i] / det });
+        } else if let Some(ray) = &w.rays[i] {
             // On an edge in f32: the scalar kernel's f64 re-check and tie-break decide.
-            if let Some(ray) = &w.rays[i] {
-                if let Some(h) = intersect(v0, v1, v2, ray, t_min[i], bound[i]) {
-                    bound[i] = h.t;
-                    record(i, h);
-                }
+            if let Some(h) = intersect(v0, v1, v2, ray, t_min[i], bound[i]) {
+                bound[i] = h.t;
+                record(i, h);
             }
         }
     }
