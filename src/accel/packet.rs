@@ -49,8 +49,8 @@ const MAILBOX: usize = 64;
 
 /// The rectangle of cells (inclusive ranges on the two cross axes) that holds every walking
 /// lane's points between two walls of the dominant axis, widened by the rounding margin, and
-/// the box of those points itself (in the grid's own axes); `None` when no lane has points
-/// there.
+/// the box of those points itself (in the grid's axes x, y, z, widened too); `None` when no
+/// lane has points there.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Rect {
     u: [i64; 2],
@@ -94,6 +94,12 @@ struct Frame<'a, const N: usize> {
 }
 
 impl<const N: usize> Frame<'_, N> {
+    /// The rounding margin of coordinates in `[lo, hi]` on `axis`.
+    #[inline(always)]
+    fn margin(&self, axis: usize, lo: f32, hi: f32) -> f32 {
+        MARGIN_CELLS * self.grid.cell_size[axis] + MARGIN_RELATIVE * lo.abs().max(hi.abs())
+    }
+
     /// The cell of coordinate `c` on `axis`, clamped into the grid.
     #[inline(always)]
     fn cell_of(&self, axis: usize, c: f32) -> i64 {
@@ -140,19 +146,18 @@ impl<const N: usize> Frame<'_, N> {
         if ext[0][0] > ext[0][1] {
             return None;
         }
-        let g = self.grid;
         let mut out = [[0i64; 2]; 2];
         let (mut lo, mut hi) = ([0.0f32; 3], [0.0f32; 3]);
         for c in 0..2 {
             let axis = self.axes[c + 1];
             let [l, h] = ext[c];
-            let margin = MARGIN_CELLS * g.cell_size[axis] + MARGIN_RELATIVE * l.abs().max(h.abs());
+            let margin = self.margin(axis, l, h);
             out[c] = [self.cell_of(axis, l - margin), self.cell_of(axis, h + margin)];
             (lo[axis], hi[axis]) = (l - margin - self.slack, h + margin + self.slack);
         }
         let k = self.axes[0];
         let (wl, wh) = (min(wa, wb), max(wa, wb));
-        let margin = MARGIN_CELLS * g.cell_size[k] + MARGIN_RELATIVE * wl.abs().max(wh.abs()) + self.slack;
+        let margin = self.margin(k, wl, wh) + self.slack;
         (lo[k], hi[k]) = (wl - margin, wh + margin);
         Some(Rect { u: out[0], v: out[1], footprint: Aabb::new(Vec3::from(lo), Vec3::from(hi)) })
     }
@@ -243,7 +248,7 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
             }
         }
     }
-    let margin_k = MARGIN_CELLS * grid.cell_size[k] + MARGIN_RELATIVE * near.abs().max(far.abs());
+    let margin_k = frame.margin(k, near, far);
     let (s_lo, s_hi) = (frame.cell_of(k, near - margin_k), frame.cell_of(k, far + margin_k));
     let (mut s, last, step) = if forward { (s_lo, s_hi, 1) } else { (s_hi, s_lo, -1) };
     let dims = grid.dims.map(i64::from);

@@ -67,7 +67,7 @@ pub fn mesh_hits<const N: usize, L: TriangleLayout>(
         fn visit(&mut self, id: u32, live: &[bool; N], footprint: &Aabb) -> bool {
             let vertices = self.triangles.vertices(id);
             let [a, b, c] = vertices;
-            if !footprint.overlaps(&Aabb::new(a.min(b).min(c), a.max(b).max(c))) {
+            if !footprint.overlaps(&crate::geom::triangle::bounds(a, b, c)) {
                 return false;
             }
             self.tests += lanes(live);
