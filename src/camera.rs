@@ -2,6 +2,29 @@
 
 use crate::math::{unit_and_length, Ray, Vec2, Vec3};
 
+/// When the shutter is open, as fractions of the frame interval from the frame's time: motion
+/// blur integrates the scene over `[open, close]`. Validated to `0 ≤ open ≤ close ≤ 1`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Shutter {
+    /// Opening, as a fraction of the frame interval.
+    pub open: f32,
+    /// Closing, as a fraction of the frame interval (≥ `open`).
+    pub close: f32,
+}
+
+impl Shutter {
+    /// The shutter `(open, close)`, or the rule it breaks unless `0 ≤ open ≤ close ≤ 1`: the
+    /// rule every source of a shutter (scene file, command line) is checked against.
+    pub fn new(open: f32, close: f32) -> Result<Self, String> {
+        match (0.0..=1.0).contains(&open) && (0.0..=1.0).contains(&close) && open <= close {
+            true => Ok(Self { open, close }),
+            false => Err(format!(
+                "must be (open, close) with 0 <= open <= close <= 1 (fractions of the frame interval), got ({open}, {close})"
+            )),
+        }
+    }
+}
+
 /// A pinhole or thin-lens camera. Image x grows right, y grows down; the view looks along
 /// `forward`.
 #[derive(Debug, Clone, Copy, PartialEq)]

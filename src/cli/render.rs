@@ -10,6 +10,7 @@ use clap::Args;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use penumbra::camera::Shutter;
 use penumbra::film::{
     prepare_output, write_atomically, write_image, AovSet, Aovs, Film, OutputFormat, ToneMapping,
     ToneOperator,
@@ -95,6 +96,11 @@ pub struct FrameArgs {
     /// Lens radius (0 = pinhole).
     #[arg(long, value_name = "R", allow_negative_numbers = true, value_parser = parse_aperture)]
     aperture: Option<f32>,
+    /// Motion blur: when the shutter is open, `OPEN:CLOSE` as fractions of the frame interval
+    /// (`0:0.5` is a 180° shutter), or `none` (overrides the scene's `camera.shutter`). What
+    /// moves comes from the script (`animate`).
+    #[arg(long, value_name = "OPEN:CLOSE", value_parser = parse_shutter)]
+    shutter: Option<ShutterFlag>,
     /// Refuse a render whose estimated memory exceeds this (e.g. `8G`, `512M`; default: the
     /// memory the machine has available).
     #[arg(long, value_name = "SIZE", value_parser = estimate::parse_size)]
@@ -172,6 +178,23 @@ fn parse_adaptive(s: &str) -> Result<(f32, u32), String> {
             "expected a threshold ≥ 0 and an optional depth in 1..=6 (`0.05` or `0.05:4`), got `{s}`"
         )),
     }
+}
+
+/// `--shutter`: a shutter interval, or `none` for an instant.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShutterFlag(Option<(f32, f32)>);
+
+fn parse_shutter(s: &str) -> Result<ShutterFlag, String> {
+    if s == "none" {
+        return Ok(ShutterFlag(None));
+    }
+    let number = |t: &str| t.trim().parse::<f32>().ok().filter(|x| x.is_finite());
+    let Some((open, close)) = s.split_once(':').and_then(|(a, b)| Some((number(a)?, number(b)?))) else {
+        return Err(format!(
+            "expected OPEN:CLOSE (fractions of the frame interval, e.g. `0:0.5`) or `none`, got `{s}`"
+        ));
+    };
+    Shutter::new(open, close).map(|_| ShutterFlag(Some((open, close))))
 }
 
 fn parse_aperture(s: &str) -> Result<f32, String> {
@@ -542,6 +565,9 @@ fn apply_effects(desc: &mut SceneDesc, args: &FrameArgs) {
     }
     if let Some(r) = args.aperture {
         desc.camera.aperture = r;
+    }
+    if let Some(ShutterFlag(shutter)) = args.shutter {
+        desc.camera.shutter = shutter;
     }
 }
 

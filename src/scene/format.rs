@@ -100,6 +100,13 @@ pub struct CameraDesc {
     /// Lens samples per camera sample, used only when `aperture` > 0. Default 1, `Jittered`.
     #[serde(default)]
     pub lens: SamplingDesc,
+    /// Motion blur: when the shutter is open, `(open, close)` as fractions of the frame
+    /// interval, `0 <= open <= close <= 1` (`(0.0, 0.5)` is a film camera's 180° shutter).
+    /// With a shutter, `animate` runs the script at both ends of the interval and whatever
+    /// moved between them (objects, the camera) is blurred along its motion; each camera
+    /// sample takes a time in the interval. Default none: every frame is an instant.
+    #[serde(default)]
+    pub shutter: Option<(f32, f32)>,
 }
 
 /// How many points a distribution effect takes over its domain, and how they are placed.

@@ -216,6 +216,7 @@ fn expected_type(path: &FieldPath) -> Option<&'static str> {
                 "a struct in parentheses `(name: value, ...)`"
             }
             "adaptive" => "a struct in parentheses `(name: value, ...)`, or `None`",
+            "shutter" => "a pair of numbers `(open, close)`, or `None`",
             "pattern" => "a pattern: `Grid`, `Random` or `Jittered`",
             "filter" => "a filter: `Box` or `Tent`",
             "operator" => "a tone operator: `Clamp`, `Reinhard` or `Aces`",

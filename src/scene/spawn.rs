@@ -60,6 +60,8 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
         lens: sampling(&c.lens),
         glossy: sampling(&s.glossy),
         max_secondary_rays: s.max_secondary_rays,
+        // Validated on load: `0 <= open <= close <= 1`.
+        shutter: c.shutter.and_then(|(open, close)| crate::camera::Shutter::new(open, close).ok()),
     });
 
     for (i, object) in desc.objects.iter().enumerate() {

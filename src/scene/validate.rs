@@ -196,6 +196,11 @@ fn camera(path: &FieldPath, camera: &CameraDesc) -> Check {
             return fail(path, "focus_on", rule);
         }
     }
+    if let Some((open, close)) = camera.shutter {
+        if let Err(rule) = crate::camera::Shutter::new(open, close) {
+            return fail(path, "shutter", rule);
+        }
+    }
     sampling(&path.clone().field("lens"), &camera.lens)
 }
 

@@ -17,6 +17,7 @@ use std::time::Instant;
 use super::error::ScriptError;
 use super::runtime::{Script, ScriptedWorld};
 use super::state::Clock;
+use crate::camera::Shutter;
 use crate::scene::SceneDesc;
 use crate::store::{PrimitiveStore, SoaStore};
 use crate::trace::TraceScene;
@@ -126,6 +127,10 @@ impl FromStr for FrameRange {
 pub struct Animation<S: PrimitiveStore + 'static = SoaStore> {
     world: ScriptedWorld<S>,
     fps: f64,
+    /// The scene's shutter (motion blur), if any.
+    shutter: Option<Shutter>,
+    /// The script's state at the last stepped frame's shutter close.
+    close: Option<super::state::ScriptState>,
     /// The next frame whose `frame(t)` has not run.
     next: u32,
     /// Seconds of the last `step_to`: running the script, then updating the World.
@@ -138,22 +143,33 @@ impl<S: PrimitiveStore + 'static> Animation<S> {
         script.require("frame", 1, "`animate` calls once per frame with the time in seconds")?;
         let mut world = ScriptedWorld::from_scene(desc, script);
         world.setup()?;
-        Ok(Self { world, fps, next: 0, timing: (0.0, 0.0) })
+        let shutter = desc.camera.shutter.and_then(|(open, close)| Shutter::new(open, close).ok());
+        Ok(Self { world, fps, shutter, close: None, next: 0, timing: (0.0, 0.0) })
     }
 
     /// Runs the script up to `frame` (each frame not yet run, in order, with output shown only
     /// for `frame` itself), applies its writes and returns the frame's snapshot. Frames must be
     /// asked for in increasing order.
+    ///
+    /// With a shutter, every frame of the timeline runs at its shutter's opening, and `frame`
+    /// is also evaluated at its closing ([`super::shutter`]): what moved between the two is
+    /// blurred.
     pub fn step_to(&mut self, frame: u32) -> Result<Arc<TraceScene<S>>, ScriptError> {
         assert!(frame + 1 >= self.next, "frames run in order: frame {frame} asked for after {}", self.next);
         let started = Instant::now();
         while self.next <= frame {
-            self.world.mute_output(self.next < frame);
-            let ran = self.world.frame(Clock::at(self.next, self.fps));
+            let n = self.next;
+            if let (true, Some(shutter)) = (n == frame, self.shutter) {
+                self.close = Some(self.world.evaluate_at(Clock::at_offset(n, shutter.close, self.fps))?);
+            }
+            self.world.mute_output(n < frame);
+            let open = self.shutter.map_or(0.0, |s| s.open);
+            let ran = self.world.frame(Clock::at_offset(n, open, self.fps));
             self.world.mute_output(false);
             ran?;
             self.next += 1;
         }
+        self.world.set_shutter_pose(self.close.clone());
         let script = started.elapsed().as_secs_f64();
         let snapshot = self.world.update();
         self.timing = (script, started.elapsed().as_secs_f64() - script);

@@ -25,6 +25,7 @@ pub mod api;
 pub mod engine;
 pub mod error;
 pub mod runtime;
+pub mod shutter;
 pub mod state;
 pub mod sweep;
 

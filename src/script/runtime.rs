@@ -9,12 +9,13 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use bevy_ecs::prelude::Resource;
+use bevy_ecs::prelude::{IntoScheduleConfigs, Resource};
 use rhai::{Array, CallFnOptions, Dynamic, Engine, FuncArgs, Map, Scope, AST};
 
 use super::api;
 use super::engine::{sandboxed, Limits, Watch};
 use super::error::{ErrorKind, ScriptError};
+use super::shutter::{apply_shutter_pose, ShutterPose};
 use super::state::{apply_script_writes, Clock, ScriptState, SharedState};
 use crate::scene::{spawn_world, validate, SceneDesc};
 use crate::store::{PrimitiveStore, SoaStore};
@@ -163,7 +164,8 @@ impl<S: PrimitiveStore + 'static> ScriptedWorld<S> {
         api::register(&mut engine, &state);
         world.world_mut().insert_resource(state.clone());
         world.world_mut().insert_resource(ScriptRuntime { engine, script: script.clone(), watch, state });
-        world.add_input_system(apply_script_writes);
+        world.world_mut().init_resource::<ShutterPose>();
+        world.add_input_system((apply_script_writes, apply_shutter_pose).chain());
         Self { world }
     }
 
@@ -196,6 +198,25 @@ impl<S: PrimitiveStore + 'static> ScriptedWorld<S> {
         self.state().lock().clock = clock;
         let context = format!("frame({}) at frame {}", clock.time, clock.frame);
         self.runtime().call("frame", (clock.time,), &context).map(|_| ())
+    }
+
+    /// Runs `fn frame(t)` for `clock` from the current state, output muted, and undoes it:
+    /// returns the state it reached (a pose at shutter close) and leaves the script's state,
+    /// and so the World and the timeline, as they were.
+    pub fn evaluate_at(&mut self, clock: Clock) -> Result<ScriptState, ScriptError> {
+        let state = self.state();
+        let before = state.lock().clone();
+        self.mute_output(true);
+        let ran = self.frame(clock);
+        self.mute_output(false);
+        let reached = std::mem::replace(&mut *state.lock(), before);
+        ran.map(|()| reached)
+    }
+
+    /// The pose at shutter close the next [`Self::update`] blurs towards (from
+    /// [`Self::evaluate_at`]), or `None` for a frame without a shutter.
+    pub fn set_shutter_pose(&mut self, close: Option<ScriptState>) {
+        self.world.world_mut().insert_resource(ShutterPose(close));
     }
 
     /// The parameter sets `fn sweep()` declares: an array of object maps.

@@ -74,6 +74,15 @@ impl Clock {
     pub fn at(frame: u32, fps: f64) -> Self {
         Self { frame, time: frame as f64 / fps, fps }
     }
+
+    /// Frame `frame` at `fps`, a fraction `offset` of the frame interval later (a shutter's
+    /// opening or closing): time `(frame + offset) / fps`. `offset` 0 is [`Clock::at`].
+    pub fn at_offset(frame: u32, offset: f32, fps: f64) -> Self {
+        match offset {
+            0.0 => Self::at(frame, fps),
+            _ => Self { frame, time: (f64::from(frame) + f64::from(offset)) / fps, fps },
+        }
+    }
 }
 
 /// The camera as a script sees it (angles in degrees).
@@ -460,7 +469,7 @@ impl ScriptState {
     }
 
     /// The camera rig the mirror describes; a focus entity is resolved to its current centre.
-    fn rig(&self) -> CameraRig {
+    pub(crate) fn rig(&self) -> CameraRig {
         let c = &self.camera;
         CameraRig {
             position: c.position,

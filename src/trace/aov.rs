@@ -5,6 +5,7 @@
 use rayon::prelude::*;
 
 use super::integrator::closest_hit;
+use super::motion::MOVING_FLAG;
 use super::render::RenderSettings;
 use super::scene::TraceScene;
 use super::stats::RayCounts;
@@ -60,7 +61,7 @@ fn probe<S: PrimitiveStore>(scene: &TraceScene<S>, settings: &RenderSettings, x:
     let Some(hit) = closest_hit(scene, &ray, 0.0, f32::INFINITY) else {
         return Probe { depth: f32::INFINITY, normal: Vec3::ZERO, albedo: Vec3::ZERO, object: 0 };
     };
-    let sp = scene.store.surface(&hit, &ray);
+    let sp = scene.surface(&hit, &ray, 0.0);
     let normal = if sp.normal.dot(ray.dir) < 0.0 { sp.shading } else { -sp.shading };
     Probe {
         depth: hit.t * ray.dir.dot(scene.camera.forward),
@@ -75,6 +76,8 @@ fn probe<S: PrimitiveStore>(scene: &TraceScene<S>, settings: &RenderSettings, x:
 pub fn object_index<S: PrimitiveStore>(scene: &TraceScene<S>, object: u32) -> u32 {
     if object & UNBOUNDED_FLAG != 0 {
         scene.store.bounded_count() + (object & !UNBOUNDED_FLAG)
+    } else if object & MOVING_FLAG != 0 {
+        scene.store.bounded_count() + scene.store.unbounded_count() + (object & !MOVING_FLAG)
     } else {
         object
     }

@@ -21,6 +21,8 @@ pub struct Effects {
     pub area_lights: bool,
     /// The camera has a finite aperture (depth of field).
     pub lens: bool,
+    /// Something moves while the shutter is open (motion blur): camera samples carry a time.
+    pub motion: bool,
 }
 
 impl Effects {
@@ -33,6 +35,7 @@ impl Effects {
             (self.blurry, "blurry"),
             (self.area_lights, "area_lights"),
             (self.lens, "lens"),
+            (self.motion, "motion"),
         ]
         .iter()
         .filter_map(|&(on, name)| on.then_some(name))
@@ -49,6 +52,7 @@ impl Effects {
             blurry: any(|m| m.kt > 0.0 && m.glossiness > 0.0),
             area_lights: lights.iter().any(Light::is_area),
             lens: camera.has_lens(),
+            motion: false,
         }
     }
 }

@@ -36,6 +36,21 @@ pub fn closest_hit_tallied<S: PrimitiveStore, T: Tally>(
     t_max: f32,
     tally: &mut T,
 ) -> Option<Hit> {
+    closest_hit_at(scene, ray, t_min, t_max, 0.0, tally)
+}
+
+/// [`closest_hit_tallied`] for a ray at time `s` of the shutter interval (0 at open, 1 at
+/// close): moving objects are seen where they are then ([`super::motion`]); the static scene
+/// is the same at every time.
+#[inline]
+pub fn closest_hit_at<S: PrimitiveStore, T: Tally>(
+    scene: &TraceScene<S>,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+    s: f32,
+    tally: &mut T,
+) -> Option<Hit> {
     let mut nearest = Nearest::new(t_max);
     let store = &scene.store;
     for i in 0..store.unbounded_count() {
@@ -43,6 +58,9 @@ pub fn closest_hit_tallied<S: PrimitiveStore, T: Tally>(
         nearest.offer(store.intersect_unbounded(i, ray, t_min, nearest.t));
     }
     nearest.offer(grid_hit(scene, ray, t_min, nearest.t, tally));
+    if let Some(motion) = &scene.motion {
+        nearest.offer(motion.nearest(store.meshes(), ray, t_min, nearest.t, s, tally));
+    }
     nearest.hit
 }
 
@@ -121,6 +139,37 @@ pub fn transmittance<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max:
 /// [`TraversalCost`] counts them). Both branches walk the top-level grid with the any-hit walk
 /// the mesh grids share ([`walk::any`]); with transmission, "hit" means the light is used up.
 pub fn transmittance_tallied<S: PrimitiveStore, T: Tally>(
+    scene: &TraceScene<S>,
+    ray: &Ray,
+    t_max: f32,
+    tally: &mut T,
+) -> f32 {
+    transmittance_at(scene, ray, t_max, 0.0, tally)
+}
+
+/// [`transmittance_tallied`] for a shadow ray at time `s` of the shutter interval: the static
+/// scene's part, times the moving objects' part ([`super::motion::SceneMotion::transmittance`],
+/// objects in ascending index) where something moves.
+pub fn transmittance_at<S: PrimitiveStore, T: Tally>(
+    scene: &TraceScene<S>,
+    ray: &Ray,
+    t_max: f32,
+    s: f32,
+    tally: &mut T,
+) -> f32 {
+    let pass = static_transmittance(scene, ray, t_max, tally);
+    match &scene.motion {
+        Some(motion) if pass > 0.0 => {
+            let kt = |m| scene.material(m).kt;
+            let opaque = !scene.effects.transmission;
+            pass * motion.transmittance(scene.store.meshes(), ray, t_max, s, opaque, kt, tally)
+        }
+        _ => pass,
+    }
+}
+
+/// The static scene's part of [`transmittance_at`].
+fn static_transmittance<S: PrimitiveStore, T: Tally>(
     scene: &TraceScene<S>,
     ray: &Ray,
     t_max: f32,
@@ -307,6 +356,9 @@ pub struct PathContext<'a> {
     /// shadow rays of [`PathContext::shadow_hint`]); taken by the first [`radiance_at`], which
     /// would compute the same.
     pub surface_hint: Option<ShadingPoint>,
+    /// Time of this camera sample in the shutter interval (0 at open, 1 at close): every ray
+    /// of the path sees moving objects where they are then. 0 where nothing moves.
+    pub time: f32,
 }
 
 /// Lights whose shadow rays from camera hits are traced in packets.
@@ -353,7 +405,16 @@ impl<'a> PathContext<'a> {
             packets: settings.simd.packets().then(|| settings.simd.resolve()),
             shadow_hint: None,
             surface_hint: None,
+            time: 0.0,
         }
+    }
+
+    /// This context for a path at time `s` of a scene with motion: single rays only (packets
+    /// share no time), every ray at `s`.
+    pub fn at_time(mut self, s: f32) -> Self {
+        self.packets = None;
+        self.time = s;
+        self
     }
 
     /// Ends the path: adds what the budget did to the ray counters.
@@ -443,7 +504,7 @@ pub fn radiance<S: PrimitiveStore>(
     ctx: &mut PathContext<'_>,
 ) -> Vec3 {
     let mut cost = TraversalCost::default();
-    let found = closest_hit_tallied(scene, ray, 0.0, f32::INFINITY, &mut cost);
+    let found = closest_hit_at(scene, ray, 0.0, f32::INFINITY, ctx.time, &mut cost);
     radiance_at(scene, ray, found, cost, depth, weight, ctx)
 }
 
@@ -464,7 +525,7 @@ pub fn radiance_at<S: PrimitiveStore>(
     };
     let ShadingPoint { sp, entering, n, ns, above } = match ctx.surface_hint.take() {
         Some(shading) => shading,
-        None => ShadingPoint::new(scene.store.surface(&hit, ray), ray.dir),
+        None => ShadingPoint::new(scene.surface(&hit, ray, ctx.time), ray.dir),
     };
     let m = *scene.material(sp.material);
     let surface = Surface { point: sp.point, normal: ns, above, eps: sp.error };

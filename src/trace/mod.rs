@@ -10,6 +10,7 @@ pub mod finite;
 pub mod integrator;
 pub mod light;
 pub mod material;
+pub mod motion;
 pub mod packet;
 pub mod phong;
 pub mod render;
@@ -24,8 +25,9 @@ pub use integrator::{
 };
 pub use light::Light;
 pub use material::Material;
+pub use motion::{CameraMotion, CameraPose, MovingObject, Pose, SceneMotion};
 pub use render::{
     render, render_observed, render_with_aovs, tile_count, AntiAliasing, RenderSettings, Sampling,
 };
 pub use scene::{SceneTables, TraceScene};
-pub use stats::{AdaptiveCounts, BudgetStats, GridStats, RayCounts, RenderStats, StageTimes};
+pub use stats::{AdaptiveCounts, BudgetStats, GridStats, MotionStats, RayCounts, RenderStats, StageTimes};

@@ -2,7 +2,7 @@
 //! sample of an area light) adds `(kd·max(N·L, 0) + ks·max(R·V, 0)^shininess) × radiance ×
 //! transmittance` of its shadow ray.
 
-use super::integrator::{transmittance_tallied, EffectSamples, PathContext};
+use super::integrator::{transmittance_at, EffectSamples, PathContext};
 use super::light::Light;
 use super::material::Material;
 use super::packet::{shadow_passes, LANES, MIN_LANES};
@@ -163,7 +163,7 @@ fn area_light_packets<S: PrimitiveStore>(
 #[inline]
 fn shadow<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max: f32, ctx: &mut PathContext<'_>) -> f32 {
     let mut cost = TraversalCost::default();
-    let pass = transmittance_tallied(scene, ray, t_max, &mut cost);
+    let pass = transmittance_at(scene, ray, t_max, ctx.time, &mut cost);
     ctx.rays.traversal.record(cost);
     pass
 }

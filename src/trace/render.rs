@@ -27,7 +27,9 @@ use super::integrator::{
 };
 use super::packet::{closest_hits, shadow_passes, LANES, MIN_LANES};
 use super::scene::TraceScene;
-use super::stats::{AdaptiveCounts, BudgetStats, GridStats, MeshGridStats, RayCounts, RenderStats};
+use super::stats::{
+    AdaptiveCounts, BudgetStats, GridStats, MeshGridStats, MotionStats, RayCounts, RenderStats,
+};
 use crate::film::{AovSet, Aovs, Film};
 use crate::math::{Ray, RayPacket, Vec2, Vec3, SHADOW_EPSILON};
 use crate::sample::adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint};
@@ -48,6 +50,8 @@ const PIXEL_PATTERNS: u32 = u32::MAX;
 const DIM_PIXEL: u32 = 0;
 /// Dimension of the lens pattern in the pixel-level key.
 const DIM_LENS: u32 = 1;
+/// Dimension of the shutter times in the pixel-level key (only where something moves).
+const DIM_TIME: u32 = 2;
 
 /// A sample count and the pattern that places the samples.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -102,6 +106,10 @@ pub struct RenderSettings {
     /// Which path traces the rays: packets at an instruction-set level, or single rays (the
     /// image is the same bits on every one).
     pub simd: crate::simd::SimdLevel,
+    /// When the shutter is open (motion blur). The tracer reads only the snapshot's motion,
+    /// which the World derives over this interval; kept here so it is in every frame's
+    /// provenance.
+    pub shutter: Option<crate::camera::Shutter>,
 }
 
 impl Default for RenderSettings {
@@ -119,6 +127,7 @@ impl Default for RenderSettings {
             glossy: Sampling { samples: 8, pattern: Pattern::Jittered },
             max_secondary_rays: DEFAULT_MAX_SECONDARY_RAYS,
             simd: crate::simd::SimdLevel::Auto,
+            shutter: None,
         }
     }
 }
@@ -168,7 +177,12 @@ pub fn render_observed<S: PrimitiveStore>(
         // Packets need no per-pixel ray counts; the cost AOV, which does, traces single rays. So
         // do lens cameras: each lane's lens point differs, so a block's rays do not form a
         // frustum worth walking (measured: 20 % slower on effects_dof). Shadow packets remain.
-        None if settings.simd.packets() && !wanted.cost && !scene.camera.has_lens() => {
+        // Motion blur gives every lane its own time: single rays.
+        None if settings.simd.packets()
+            && !wanted.cost
+            && !scene.camera.has_lens()
+            && scene.motion.is_none() =>
+        {
             let level = settings.simd.resolve();
             let sampler = CameraSampler::new(scene, settings);
             let tile = |area: [u32; 4], rays: &mut RayCounts, out: &mut TileOut| {
@@ -224,6 +238,13 @@ pub fn render_observed<S: PrimitiveStore>(
         meshes: mesh_grid_stats(scene.store.meshes()),
     };
     stats.traversal = stats.rays.traversal.summary();
+    if let Some(m) = &scene.motion {
+        stats.motion = MotionStats {
+            moving_objects: m.objects().len() as u32,
+            camera_moves: m.camera.is_some(),
+            timed_samples: stats.rays.timed,
+        };
+    }
     stats.ray_budget = BudgetStats::new(settings.max_secondary_rays, &stats.rays.budget);
     (film, aovs, stats)
 }
@@ -327,8 +348,8 @@ fn fixed_pixel<S: PrimitiveStore>(
 ) -> (Vec3, u32) {
     let mut mean = SampleMean::default();
     for sample in 0..sampler.n {
-        let (ray, camera) = sampler.sample(x, y, sample, rays);
-        mean.add(trace_camera_ray(sampler.scene, sampler.settings, &ray, camera, rays));
+        let (ray, camera, time) = sampler.sample(x, y, sample, rays);
+        mean.add(trace_camera_ray(sampler.scene, sampler.settings, &ray, camera, time, rays));
     }
     (mean.mean(), mean.dropped())
 }
@@ -356,10 +377,13 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
         Self { scene, settings, n_aa, aa_strata: strata(n_aa), n_lens, n, lens_strata: strata(n) }
     }
 
-    /// Camera sample `sample` of pixel `(x, y)`: its ray (counted as a camera or lens ray) and
-    /// its key. Sample `i · n_lens + j` is AA position `i` through lens point `j`.
+    /// Camera sample `sample` of pixel `(x, y)`: its ray (counted as a camera or lens ray), its
+    /// key and its time in the shutter interval. Sample `i · n_lens + j` is AA position `i`
+    /// through lens point `j`. Where something moves, times are stratified over the pixel's
+    /// samples (one stratum of `1/n` each, in an order decorrelated from positions and lens
+    /// points); elsewhere every time is 0 and none is drawn.
     #[inline]
-    fn sample(&self, x: u32, y: u32, sample: u32, rays: &mut RayCounts) -> (Ray, CameraSample) {
+    fn sample(&self, x: u32, y: u32, sample: u32, rays: &mut RayCounts) -> (Ray, CameraSample, f32) {
         let (scene, settings) = (self.scene, self.settings);
         let pixel = y * settings.width + x;
         let patterns =
@@ -368,21 +392,39 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
         let u = uniform2(&patterns, DIM_PIXEL, i);
         let offset = pixel_offset(&settings.aa, self.n_aa, self.aa_strata, i, u);
         let (px, py) = (x as f32 + offset.x, y as f32 + offset.y);
-        let ray = if scene.camera.has_lens() {
+        let time = match scene.motion {
+            Some(_) => {
+                rays.timed += 1;
+                let times = Dimension::new(&patterns, DIM_TIME);
+                let k = permute(sample, self.n, times.hash(u32::MAX));
+                stratum_time(k, self.n, times.uniform2(k).x)
+            }
+            None => 0.0,
+        };
+        let camera = scene.camera_at(time);
+        let ray = if camera.has_lens() {
             // Lens points are stratified over all n samples, in an order decorrelated from the
             // pixel positions.
             let lens_points = Dimension::new(&patterns, DIM_LENS);
             let k = permute(sample, self.n, lens_points.hash(u32::MAX));
             let lens = disk_point_in(settings.lens.pattern, self.lens_strata, k, lens_points.uniform2(k));
             rays.lens += 1;
-            scene.camera.lens_ray(px, py, settings.width, settings.height, lens)
+            camera.lens_ray(px, py, settings.width, settings.height, lens)
         } else {
             rays.camera += 1;
-            scene.camera.ray(px, py, settings.width, settings.height)
+            camera.ray(px, py, settings.width, settings.height)
         };
         let key = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample };
-        (ray, CameraSample { key, pixel: patterns, slot: sample, spp: self.n })
+        (ray, CameraSample { key, pixel: patterns, slot: sample, spp: self.n }, time)
     }
+}
+
+/// The time of stratum `k` of `n` at offset `u ∈ [0, 1)` within it: in `[k/n, (k+1)/n)` (a
+/// sum that rounds up to the stratum's end is pulled back below it).
+#[inline]
+fn stratum_time(k: u32, n: u32, u: f32) -> f32 {
+    let t = (k as f32 + u) / n as f32;
+    t.min(((k + 1) as f32 / n as f32).next_down())
 }
 
 /// Width and height in pixels of the block whose camera rays form one packet.
@@ -415,7 +457,7 @@ fn packet_tile<S: PrimitiveStore>(
                 let mut cameras = [None; LANES];
                 for (lane, camera) in cameras.iter_mut().enumerate() {
                     if let Some((x, y)) = pixel(lane) {
-                        let (ray, key) = sampler.sample(x, y, sample, rays);
+                        let (ray, key, _) = sampler.sample(x, y, sample, rays);
                         packet.set(lane, &ray, 0.0, f32::INFINITY);
                         *camera = Some(key);
                     }
@@ -527,9 +569,13 @@ fn trace_camera_ray<S: PrimitiveStore>(
     settings: &RenderSettings,
     ray: &Ray,
     camera: CameraSample,
+    time: f32,
     rays: &mut RayCounts,
 ) -> Vec3 {
     let mut ctx = PathContext::new(settings, camera, rays);
+    if scene.motion.is_some() {
+        ctx = ctx.at_time(time);
+    }
     let colour = radiance(scene, ray, 0, 1.0, &mut ctx);
     ctx.finish();
     colour
@@ -634,20 +680,29 @@ fn lattice_sample<S: PrimitiveStore>(
     let key =
         SampleKey { seed: settings.seed, frame: settings.frame, pixel: id as u32, sample: (id >> 32) as u32 };
     let (px, py) = (p.x as f32 / res as f32, p.y as f32 / res as f32);
-    let ray = if scene.camera.has_lens() {
+    // A lattice point is one camera sample: one random time where something moves.
+    let time = match scene.motion {
+        Some(_) => {
+            rays.timed += 1;
+            crate::sample::rng::uniform(&key, DIM_TIME, PIXEL_PATTERNS)
+        }
+        None => 0.0,
+    };
+    let cam = scene.camera_at(time);
+    let ray = if cam.has_lens() {
         rays.lens += 1;
         let lens = disk_point(Pattern::Random, 1, 0, uniform2(&key, DIM_LENS, PIXEL_PATTERNS));
-        scene.camera.lens_ray(px, py, settings.width, settings.height, lens)
+        cam.lens_ray(px, py, settings.width, settings.height, lens)
     } else {
         rays.camera += 1;
-        scene.camera.ray(px, py, settings.width, settings.height)
+        cam.ray(px, py, settings.width, settings.height)
     };
     // A point first needed at subdivision level l stands for a square of 4^-l of a pixel: it
     // takes that share of each effect's per-pixel budget (corners, level 0, take all of it).
     let level =
         res.trailing_zeros() - p.x.trailing_zeros().min(p.y.trailing_zeros()).min(res.trailing_zeros());
     let camera = CameraSample { spp: 1 << (2 * level), ..CameraSample::single(key) };
-    trace_camera_ray(scene, settings, &ray, camera, rays)
+    trace_camera_ray(scene, settings, &ray, camera, time, rays)
 }
 
 /// Figures of the mesh level of a store's two-level grid.

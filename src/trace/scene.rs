@@ -5,10 +5,20 @@ use std::sync::Arc;
 use super::effects::Effects;
 use super::light::Light;
 use super::material::Material;
+use super::motion::{SceneMotion, MOVING_FLAG};
 use crate::accel::{GridBuilder, UniformGrid};
 use crate::camera::Camera;
-use crate::math::Vec3;
-use crate::store::{MaterialId, MeshAsset, MeshEntry, PlacedObject, PrimitiveStore, SoaStore};
+use crate::math::{Ray, Vec3};
+use crate::store::{
+    Hit, MaterialId, MeshAsset, MeshEntry, PlacedObject, PrimitiveStore, SoaStore, SurfacePoint,
+    UNBOUNDED_FLAG,
+};
+
+/// True when a hit is on a moving object ([`MOVING_FLAG`] set, the unbounded flag clear).
+#[inline]
+pub fn is_moving(hit: &Hit) -> bool {
+    hit.object & (MOVING_FLAG | UNBOUNDED_FLAG) == MOVING_FLAG
+}
 
 /// The non-geometric part of a snapshot: materials, lights, camera and the constant terms.
 #[derive(Debug, Clone)]
@@ -45,8 +55,12 @@ pub struct TraceScene<S: PrimitiveStore = SoaStore> {
     /// Effects present in this scene.
     pub effects: Effects,
     /// Scene names of the objects, bounded ones in grid-id order then unbounded ones (empty
-    /// when the snapshot was not built from a World); the legend of the object-id AOV.
+    /// when the snapshot was not built from a World); the legend of the object-id AOV. Moving
+    /// objects follow, named in [`SceneMotion::names`].
     pub object_names: Vec<String>,
+    /// What moves while the shutter is open (motion blur); `None` when nothing does, and then
+    /// no ray is given a time and nothing is paid for motion.
+    pub motion: Option<Arc<SceneMotion>>,
 }
 
 impl<S: PrimitiveStore> TraceScene<S> {
@@ -71,6 +85,43 @@ impl<S: PrimitiveStore> TraceScene<S> {
             ambient,
             effects,
             object_names: Vec::new(),
+            motion: None,
+        }
+    }
+
+    /// The snapshot with `motion` (none when it is empty): moving objects and the camera's
+    /// motion, seen by rays at their times. Sets [`Effects::motion`].
+    pub fn with_motion(mut self, motion: SceneMotion) -> Self {
+        self.effects.motion = !motion.is_empty();
+        self.motion = (!motion.is_empty()).then(|| Arc::new(motion));
+        self
+    }
+
+    /// The camera at time `s` of the shutter interval: the snapshot's camera unless it moves.
+    #[inline]
+    pub fn camera_at(&self, s: f32) -> Camera {
+        match self.motion.as_ref().and_then(|m| m.camera.as_ref()) {
+            Some(camera) => camera.at(s),
+            None => self.camera,
+        }
+    }
+
+    /// Position, normals and material at a hit by `ray` at time `s` (which only moving
+    /// objects read).
+    #[inline]
+    pub fn surface(&self, hit: &Hit, ray: &Ray, s: f32) -> SurfacePoint {
+        match &self.motion {
+            Some(m) if is_moving(hit) => m.surface(self.store.meshes(), hit, ray, s),
+            _ => self.store.surface(hit, ray),
+        }
+    }
+
+    /// Material of the object hit.
+    #[inline]
+    pub fn hit_material(&self, hit: &Hit) -> MaterialId {
+        match &self.motion {
+            Some(m) if is_moving(hit) => m.material(hit),
+            _ => self.store.material(hit),
         }
     }
 

@@ -35,6 +35,9 @@ pub struct RayCounts {
     /// What the per-camera-sample budget of secondary rays did.
     #[serde(skip)]
     pub budget: BudgetTally,
+    /// Camera samples given a time in the shutter interval (only where something moves).
+    #[serde(skip)]
+    pub timed: u64,
 }
 
 impl RayCounts {
@@ -83,7 +86,20 @@ impl RayCounts {
         self.aov += o.aov;
         self.traversal.add(&o.traversal);
         self.budget.add(&o.budget);
+        self.timed += o.timed;
     }
+}
+
+/// What motion blur did in a frame: what moved, and how many camera samples (each the root of
+/// a path of rays at its time) were given a time. All zero when nothing moved.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct MotionStats {
+    /// Objects whose pose differs between shutter open and close.
+    pub moving_objects: u32,
+    /// Whether the camera moves while the shutter is open.
+    pub camera_moves: bool,
+    /// Camera samples traced at a time of their own.
+    pub timed_samples: u64,
 }
 
 /// Per-worker figures of the secondary-ray budget, summed over camera samples.
@@ -377,6 +393,8 @@ pub struct RenderStats {
     pub ray_budget: BudgetStats,
     /// The path that traced the rays (`--simd`, resolved: never `auto`).
     pub simd: crate::simd::SimdLevel,
+    /// Motion blur's figures.
+    pub motion: MotionStats,
 }
 
 impl Serialize for RenderStats {
@@ -397,8 +415,9 @@ impl Serialize for RenderStats {
             traversal,
             ray_budget,
             simd,
+            motion,
         } = self;
-        let mut s = serializer.serialize_struct("RenderStats", 15)?;
+        let mut s = serializer.serialize_struct("RenderStats", 16)?;
         s.serialize_field("width", width)?;
         s.serialize_field("height", height)?;
         s.serialize_field("threads", threads)?;
@@ -414,6 +433,7 @@ impl Serialize for RenderStats {
         s.serialize_field("traversal", traversal)?;
         s.serialize_field("ray_budget", ray_budget)?;
         s.serialize_field("simd", simd.name())?;
+        s.serialize_field("motion", motion)?;
         s.end()
     }
 }
@@ -441,6 +461,7 @@ impl RenderStats {
             "image      {}x{}, {} threads, simd {}, {} camera samples per pixel, effects: {}\n\
              rays       {} total: camera {}, lens {}, shadow {}, area shadow {}, reflection {}, glossy {}, refraction {}, blurry {}\n\
              adaptive   {} points traced, {} reused, {} subdivisions\n\
+             motion     {} moving objects, camera {}, {} camera samples timed\n\
              {}\n\
              speed      {:.2} Mrays/s\n\
              grid       {}x{}x{} cells, {} objects, {} references, {} B grid, {} B store\n\
@@ -466,6 +487,9 @@ impl RenderStats {
             self.adaptive.traced,
             self.adaptive.reused,
             self.adaptive.subdivisions,
+            self.motion.moving_objects,
+            if self.motion.camera_moves { "moves" } else { "still" },
+            self.motion.timed_samples,
             self.dropped.summary_line(),
             self.mrays_per_s(),
             self.grid.dims[0],

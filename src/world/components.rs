@@ -132,3 +132,13 @@ impl WorldAabb {
         !self.0.is_empty()
     }
 }
+
+/// The pose at shutter close of an object that moves while the shutter is open (motion blur);
+/// its [`Transform`] is the pose at shutter open. Set each frame by whatever drives the World
+/// over the shutter interval (a script, `crate::script`); absent from everything that does not
+/// move, which the static grid then holds as before.
+#[derive(Component, Debug, Clone, Copy, PartialEq)]
+pub struct Motion {
+    /// Object-to-world placement at shutter close.
+    pub close: Transform,
+}

@@ -69,6 +69,7 @@ impl<S: PrimitiveStore + 'static> SceneWorld<S> {
         world.init_resource::<resources::MeshTable>();
         world.init_resource::<resources::MeshLayouts<S>>();
         world.init_resource::<resources::FrameOrigin>();
+        world.init_resource::<resources::ShutterCamera>();
         Self { world, schedule: schedule::build_schedule::<S>(), layout: PhantomData }
     }
 
@@ -131,6 +132,7 @@ impl<S: PrimitiveStore + 'static> SceneWorld<S> {
             glossy: s.glossy,
             max_secondary_rays: s.max_secondary_rays,
             simd: crate::simd::SimdLevel::Auto,
+            shutter: s.shutter,
         }
     }
 

@@ -76,6 +76,11 @@ impl CameraRig {
     }
 }
 
+/// The camera at shutter close, where it differs from [`CameraRig`] (the camera at shutter
+/// open): motion blur then moves the camera across the shutter interval.
+#[derive(Resource, Debug, Clone, Copy, Default, PartialEq)]
+pub struct ShutterCamera(pub Option<CameraRig>);
+
 /// The world point the current `WorldShape`s, `WorldAabb`s and grid are relative to: the
 /// camera position of the frame they were derived for. Snapshots are camera-relative, so that
 /// `f32` keeps its precision where the camera looks however far that is from the world's
@@ -115,6 +120,8 @@ pub struct SceneSettings {
     pub glossy: Sampling,
     /// Secondary rays one camera sample may trace.
     pub max_secondary_rays: u32,
+    /// When the shutter is open (motion blur); `None`: an instant.
+    pub shutter: Option<crate::camera::Shutter>,
 }
 
 impl Default for SceneSettings {
@@ -134,6 +141,7 @@ impl Default for SceneSettings {
             lens: Sampling::default(),
             glossy: RenderSettings::default().glossy,
             max_secondary_rays: RenderSettings::default().max_secondary_rays,
+            shutter: None,
         }
     }
 }

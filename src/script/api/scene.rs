@@ -177,6 +177,7 @@ fn valid_camera_desc() -> CameraDesc {
         focus_distance: None,
         focus_on: None,
         lens: SamplingDesc::default(),
+        shutter: None,
     }
 }
 
@@ -207,6 +208,7 @@ pub fn camera_desc(state: &ScriptState) -> CameraDesc {
         },
         focus_on: None,
         lens: SamplingDesc { samples: state.settings.lens_samples, ..Default::default() },
+        shutter: None,
     }
 }
 

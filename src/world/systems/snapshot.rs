@@ -5,13 +5,17 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use bevy_ecs::prelude::{Entity, Query, Res, ResMut};
+use bevy_ecs::prelude::{Entity, Has, Query, Res, ResMut};
+use glam::DVec3;
 
 use crate::store::{MeshEntry, PlacedObject, PrimitiveStore};
-use crate::trace::{SceneTables, TraceScene};
-use crate::world::components::{Light, MaterialRef, Name, Visible, WorldAabb, WorldShape};
+use crate::trace::{CameraMotion, CameraPose, MovingObject, Pose, SceneMotion, SceneTables, TraceScene};
+use crate::world::components::{
+    Light, MaterialRef, Motion, Name, Shape, Transform, Visible, WorldAabb, WorldShape,
+};
 use crate::world::resources::{
-    CameraRig, FrameOrigin, GridIndex, Materials, MeshLayouts, MeshTable, SceneSettings, Snapshot, StageClock,
+    CameraRig, FrameOrigin, GridIndex, Materials, MeshLayouts, MeshTable, SceneSettings, ShutterCamera,
+    Snapshot, StageClock,
 };
 use crate::world::systems::grid::is_visible;
 
@@ -23,6 +27,18 @@ type ObjectParts = (
     &'static MaterialRef,
     Option<&'static Name>,
     Option<&'static Visible>,
+    Has<Motion>,
+);
+
+/// What the snapshot reads of each object that moves while the shutter is open.
+type MovingParts = (
+    Entity,
+    &'static Shape,
+    &'static Transform,
+    &'static Motion,
+    &'static MaterialRef,
+    Option<&'static Name>,
+    Option<&'static Visible>,
 );
 
 /// Builds this frame's snapshot: bounded objects in grid order, visible planes and lights in
@@ -31,6 +47,8 @@ type ObjectParts = (
 #[allow(clippy::too_many_arguments)]
 pub fn build_snapshot<S: PrimitiveStore + 'static>(
     objects: Query<ObjectParts>,
+    moving: Query<MovingParts>,
+    shutter_camera: Res<ShutterCamera>,
     lights: Query<(Entity, &Light, Option<&Visible>)>,
     index: Res<GridIndex>,
     materials: Res<Materials>,
@@ -62,7 +80,7 @@ pub fn build_snapshot<S: PrimitiveStore + 'static>(
 
     let mut planes: Vec<_> = objects
         .iter()
-        .filter(|(_, _, aabb, _, _, visible)| !aabb.is_bounded() && is_visible(*visible))
+        .filter(|(_, _, aabb, _, _, visible, moves)| !aabb.is_bounded() && is_visible(*visible) && !moves)
         .collect();
     planes.sort_unstable_by_key(|(e, ..)| *e);
     let unbounded: Vec<PlacedObject> =
@@ -72,8 +90,8 @@ pub fn build_snapshot<S: PrimitiveStore + 'static>(
         .entities
         .iter()
         .filter_map(|&e| objects.get(e).ok())
-        .map(|(.., n, _)| name(n))
-        .chain(planes.iter().map(|(.., n, _)| name(*n)))
+        .map(|(.., n, _, _)| name(n))
+        .chain(planes.iter().map(|(.., n, _, _)| name(*n)))
         .collect();
 
     let mut lights: Vec<_> = lights.iter().filter(|(.., visible)| is_visible(*visible)).collect();
@@ -88,6 +106,56 @@ pub fn build_snapshot<S: PrimitiveStore + 'static>(
     };
     let mut scene = TraceScene::with_grid(index.grid.clone(), &bounded, &unbounded, &layouts.0, tables);
     scene.object_names = object_names;
+    let motion = scene_motion(&moving, &rig, shutter_camera.0.as_ref(), origin.0, settings.lambda);
+    if let Some(motion) = motion {
+        scene.object_names.extend(motion.names.iter().cloned());
+        scene = scene.with_motion(motion);
+    }
     snapshot.0 = Some(Arc::new(scene));
     clock.snapshot = started.elapsed().as_secs_f64();
+}
+
+/// What moves while the shutter is open, relative to `origin` (the camera at shutter open):
+/// the visible objects with a [`Motion`] in entity order, and the camera when its pose at
+/// close differs. `None` when nothing moves.
+fn scene_motion(
+    moving: &Query<MovingParts>,
+    rig: &CameraRig,
+    close_rig: Option<&CameraRig>,
+    origin: DVec3,
+    lambda: f32,
+) -> Option<SceneMotion> {
+    let mut movers: Vec<_> = moving.iter().filter(|(.., visible)| is_visible(*visible)).collect();
+    movers.sort_unstable_by_key(|(e, ..)| *e);
+    let pose =
+        |t: &Transform| Pose { translation: t.translation - origin, rotation: t.rotation, scale: t.scale };
+    let objects: Vec<(MovingObject, String)> = movers
+        .iter()
+        .map(|(_, shape, open, motion, material, name, _)| {
+            let object = MovingObject {
+                shape: shape.0.clone(),
+                open: pose(open),
+                close: pose(&motion.close),
+                material: material.0,
+            };
+            (object, name.map_or_else(String::new, |n| n.as_str().to_owned()))
+        })
+        .collect();
+    let camera = close_rig
+        .filter(|close| *close != rig)
+        .map(|close| CameraMotion { open: camera_pose(rig, origin), close: camera_pose(close, origin) });
+    (!objects.is_empty() || camera.is_some()).then(|| SceneMotion::new(objects, camera, lambda))
+}
+
+/// A camera rig's pose relative to `origin`, its focus resolved against that pose.
+fn camera_pose(rig: &CameraRig, origin: DVec3) -> CameraPose {
+    let camera = rig.camera();
+    CameraPose {
+        position: (rig.position - origin).as_vec3(),
+        look_at: (rig.look_at - origin).as_vec3(),
+        up: rig.up,
+        fov_y: rig.fov_y,
+        aperture: rig.aperture,
+        focus_distance: camera.focus_distance,
+    }
 }
