@@ -26,6 +26,7 @@ mod hard_rays;
 mod invariants;
 mod memory;
 mod mesh;
+mod motion;
 mod output;
 mod packets;
 mod properties;
