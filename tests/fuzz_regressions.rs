@@ -109,7 +109,10 @@ fn script_seeds_regressions_and_nasty_inputs_never_panic() {
         // The shipped animation scripts written for the fuzzer's stage (`scenes/flythrough.ron`)
         // run on it (sweep scripts have no frame(t); `motion.rhai` has a stage of its own).
         let text = String::from_utf8_lossy(&bytes);
-        if path.starts_with(&shipped) && text.contains("fn frame(t)") && text.contains("scenes/flythrough.ron") {
+        if path.starts_with(&shipped)
+            && text.contains("fn frame(t)")
+            && text.contains("scenes/flythrough.ron")
+        {
             assert!(result.is_ok(), "{}: {result:?}", path.display());
         }
     }
