@@ -240,3 +240,20 @@ fn a_shutter_out_of_order_is_refused_with_its_rule() {
     assert!(err.contains("camera.shutter") && err.contains("open <= close"), "{err}");
     assert!(err.starts_with("bad.ron:"), "no position: {err}");
 }
+
+#[test]
+fn adaptive_supersampling_blurs_too_and_keeps_its_bits_on_any_thread_count() {
+    let sphere = r#"(name: "ball", shape: Sphere(centre: (0, 0, 0), radius: 0.25), material: "white")"#;
+    let mut desc = flat_scene(sphere, 32, 32, 1, ", shutter: (0.0, 1.0)");
+    desc.settings.adaptive = Some(scene::AdaptiveDesc { threshold: 0.05, max_depth: 3 });
+    let script = "fn frame(t) { let e = entity(\"ball\"); e.position = vec3(-1 + 2 * t, 0, 0); }";
+    let (one, stats) = blurred(&desc, script, 1);
+    let (two, _) = blurred(&desc, script, 2);
+    assert_eq!(pixels(&one), pixels(&two));
+    assert_eq!(stats.motion.timed_samples, stats.adaptive.traced, "one time per lattice point");
+    // The streak is there: many pixels partly covered along the middle row, none full (the
+    // sphere spends a quarter of the shutter over any point of its path).
+    let row: Vec<f32> = (0..32).map(|x| one.get(x, 15).x).collect();
+    let partial = row.iter().filter(|&&v| v > 0.02 && v < 0.6).count();
+    assert!(partial > 16, "no streak under adaptive sampling: {row:?}");
+}
