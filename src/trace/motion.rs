@@ -321,7 +321,6 @@ impl SceneMotion {
         crossed.sort_unstable();
         let mut pass = 1.0f32;
         for i in crossed {
-            tally.tests(1);
             pass *= share(i, tally);
             if pass == 0.0 {
                 return 0.0;
