@@ -246,15 +246,9 @@ impl SceneMotion {
         s: f32,
         tally: &mut T,
     ) -> Option<Hit> {
-        let mut best = None;
-        let mut bound = t_max;
-        for i in self.bounded..self.objects.len() as u32 {
-            tally.tests(1);
-            if let Some(h) = self.intersect(meshes, i, ray, t_min, bound, s, tally) {
-                bound = h.t;
-                best = Some(h);
-            }
-        }
+        let planes = self.bounded..self.objects.len() as u32;
+        let best = self.nearest_among(planes, meshes, ray, t_min, t_max, s, tally);
+        let bound = best.map_or(t_max, |h| h.t);
         let found = walk::nearest(&self.grid, ray, t_min, bound, tally, |i, bound, tally| {
             self.intersect(meshes, i, ray, t_min, bound, s, tally).map(|h| (h.t, h))
         });
@@ -271,11 +265,28 @@ impl SceneMotion {
         t_max: f32,
         s: f32,
     ) -> Option<Hit> {
-        let mut best = None;
-        let mut bound = t_max;
-        for i in 0..self.objects.len() as u32 {
-            if let Some(h) = self.intersect(meshes, i, ray, t_min, bound, s, &mut crate::store::NoTally) {
-                bound = h.t;
+        let all = 0..self.objects.len() as u32;
+        self.nearest_among(all, meshes, ray, t_min, t_max, s, &mut crate::store::NoTally)
+    }
+
+    /// Nearest hit among moving objects `ids` at time `s`, each tested in turn below the
+    /// nearest so far (the first of equally near ones).
+    #[allow(clippy::too_many_arguments)]
+    fn nearest_among<L: TriangleLayout, T: Tally>(
+        &self,
+        ids: std::ops::Range<u32>,
+        meshes: &[Arc<MeshEntry<L>>],
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        s: f32,
+        tally: &mut T,
+    ) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        for i in ids {
+            tally.tests(1);
+            let bound = best.map_or(t_max, |h| h.t);
+            if let Some(h) = self.intersect(meshes, i, ray, t_min, bound, s, tally) {
                 best = Some(h);
             }
         }
