@@ -66,20 +66,16 @@ fn hit_time(o: Vec3, d: Vec3, c0: Vec3, v: Vec3, r: f32) -> f32 {
     (s1.min(1.0) - s0.max(0.0)).max(0.0) as f32
 }
 
-#[test]
-fn a_sphere_moving_across_the_shutter_leaves_its_analytic_streak() {
-    let (w, h) = (32, 32);
-    let sphere = r#"(name: "ball", shape: Sphere(centre: (0, 0, 0), radius: 0.25), material: "white")"#;
-    let desc = flat_scene(sphere, w, h, 64, ", shutter: (0.0, 1.0)");
-    // From x = -1 at shutter open (t = 0) to x = +1 at close (t = 1).
-    let (film, stats) =
-        blurred(&desc, "fn frame(t) { let e = entity(\"ball\"); e.position = vec3(-1 + 2 * t, 0, 0); }", 2);
-    assert_eq!(stats.motion.moving_objects, 1);
-    assert_eq!(stats.motion.timed_samples, u64::from(w * h) * 64);
-    assert!(stats.effects.motion);
+/// Drives the test ball from x = -1 at shutter open (t = 0) to x = +1 at close (t = 1).
+const THROWN: &str = "fn frame(t) { let e = entity(\"ball\"); e.position = vec3(-1 + 2 * t, 0, 0); }";
+const BALL: &str = r#"(name: "ball", shape: Sphere(centre: (0, 0, 0), radius: 0.25), material: "white")"#;
 
-    // The expected coverage of each pixel of the two middle rows: 32 × 32 positions in the
-    // pixel, each with its exact fraction of the shutter spent on the sphere.
+/// The worst and mean error of the two middle rows of `film` (`w` × `h`, the flat stage's
+/// camera) against the analytic coverage of the [`THROWN`] ball: each pixel's 32 × 32
+/// positions, each with its exact fraction of the shutter spent on the sphere. Also the
+/// pixels lit, and asserts that pixels the streak misses are black.
+fn streak_error(film: &Film) -> (f32, f32, u32) {
+    let (w, h) = (film.width, film.height);
     let camera = Camera::look_at(Vec3::new(0.0, 0.0, -10.0), Vec3::ZERO, Vec3::Y, 20f32.to_radians());
     let (c0, v) = (Vec3::new(-1.0, 0.0, 0.0), Vec3::new(2.0, 0.0, 0.0));
     let (mut worst, mut total, mut lit) = (0.0f32, 0.0f32, 0);
@@ -106,10 +102,74 @@ fn a_sphere_moving_across_the_shutter_leaves_its_analytic_streak() {
             }
         }
     }
-    let mean = total / (2 * w) as f32;
+    (worst, total / (2 * w) as f32, lit)
+}
+
+#[test]
+fn a_sphere_moving_across_the_shutter_leaves_its_analytic_streak() {
+    let (w, h) = (32, 32);
+    let desc = flat_scene(BALL, w, h, 64, ", shutter: (0.0, 1.0)");
+    let (film, stats) = blurred(&desc, THROWN, 2);
+    assert_eq!(stats.motion.moving_objects, 1);
+    assert_eq!(stats.motion.timed_samples, u64::from(w * h) * 64);
+    assert!(stats.effects.motion);
+    let (worst, mean, lit) = streak_error(&film);
     // The sphere's streak is 2.5 units long, 0.11 units a pixel here: over 20 pixels a row.
     assert!(lit > 40, "the streak covers only {lit} pixels");
     assert!(worst < 0.1 && mean < 0.025, "coverage off the analytic streak: worst {worst}, mean {mean}");
+}
+
+#[test]
+fn time_samples_per_camera_sample_converge_on_the_analytic_streak() {
+    let (w, h) = (32, 32);
+    let mut desc = flat_scene(BALL, w, h, 4, ", shutter: (0.0, 1.0)");
+    let (coarse, _) = blurred(&desc, THROWN, 2);
+    desc.camera.time.samples = 16;
+    let (fine, stats) = blurred(&desc, THROWN, 2);
+    let pixels_n = u64::from(w * h);
+    assert_eq!(stats.motion.timed_samples, pixels_n * 4 * 16);
+    assert_eq!(stats.rays.camera, pixels_n * 4 * 16, "each AA position is traced at 16 times");
+    let ((_, coarse_mean, _), (fine_worst, fine_mean, _)) = (streak_error(&coarse), streak_error(&fine));
+    assert!(
+        fine_mean < 0.25 * coarse_mean && fine_worst < 0.08,
+        "16 times per AA position: mean {fine_mean} (worst {fine_worst}) against {coarse_mean} with one"
+    );
+    // On a grid pattern every time sits at its stratum's middle: as close, by other bits.
+    desc.camera.time.pattern = penumbra::sample::Pattern::Grid;
+    let (grid, _) = blurred(&desc, THROWN, 2);
+    let (_, grid_mean, _) = streak_error(&grid);
+    assert!(grid_mean < 0.25 * coarse_mean, "grid times: mean {grid_mean} against {coarse_mean}");
+    assert_ne!(pixels(&grid), pixels(&fine));
+}
+
+#[test]
+fn time_samples_cost_nothing_where_nothing_moves() {
+    let still = "fn frame(t) { let e = entity(\"ball\"); e.position = vec3(0.5, 0, 0); }";
+    let mut desc = flat_scene(STAGE, 24, 16, 4, ", shutter: (0.0, 0.5)");
+    let (one, one_stats) = blurred(&desc, still, 2);
+    desc.camera.time.samples = 8;
+    let (eight, eight_stats) = blurred(&desc, still, 2);
+    assert_eq!(pixels(&one), pixels(&eight));
+    assert_eq!(one_stats.rays, eight_stats.rays);
+    assert_eq!(eight_stats.motion.timed_samples, 0);
+}
+
+#[test]
+fn adaptive_lattice_points_carry_their_share_of_the_time_samples() {
+    let (w, h) = (32, 32);
+    let mut desc = flat_scene(BALL, w, h, 1, ", shutter: (0.0, 1.0)");
+    desc.settings.adaptive = Some(scene::AdaptiveDesc { threshold: 0.05, max_depth: 3 });
+    let (one_time, _) = blurred(&desc, THROWN, 2);
+    desc.camera.time.samples = 4;
+    let (four, stats) = blurred(&desc, THROWN, 1);
+    let (four_on_two, _) = blurred(&desc, THROWN, 2);
+    assert_eq!(pixels(&four), pixels(&four_on_two));
+    // A corner (a whole pixel's point) takes all 4 times; a deeper point, a quarter of a
+    // pixel or less, takes one.
+    let corners = u64::from((w + 1) * (h + 1));
+    assert_eq!(stats.motion.timed_samples, stats.adaptive.traced + 3 * corners);
+    let ((_, one_mean, _), (_, four_mean, _)) = (streak_error(&one_time), streak_error(&four));
+    assert!(four_mean < 0.7 * one_mean, "4 times a corner: mean error {four_mean} against {one_mean}");
 }
 
 #[test]
@@ -242,10 +302,9 @@ fn a_shutter_out_of_order_is_refused_with_its_rule() {
 
 #[test]
 fn adaptive_supersampling_blurs_too_and_keeps_its_bits_on_any_thread_count() {
-    let sphere = r#"(name: "ball", shape: Sphere(centre: (0, 0, 0), radius: 0.25), material: "white")"#;
-    let mut desc = flat_scene(sphere, 32, 32, 1, ", shutter: (0.0, 1.0)");
+    let mut desc = flat_scene(BALL, 32, 32, 1, ", shutter: (0.0, 1.0)");
     desc.settings.adaptive = Some(scene::AdaptiveDesc { threshold: 0.05, max_depth: 3 });
-    let script = "fn frame(t) { let e = entity(\"ball\"); e.position = vec3(-1 + 2 * t, 0, 0); }";
+    let script = THROWN;
     let (one, stats) = blurred(&desc, script, 1);
     let (two, _) = blurred(&desc, script, 2);
     assert_eq!(pixels(&one), pixels(&two));

@@ -110,6 +110,71 @@ fn the_default_sweep_of_a_scene_without_area_lights_has_no_area_light_axis() {
     assert!(rows(&dir).iter().any(|r| r.0 == "area_light"), "with an area light, its axis is swept");
 }
 
+/// A scene whose ball is thrown across the view while the shutter is open all frame, by
+/// `move.rhai` (written beside it).
+fn moving(dir: &Path) {
+    let text = scene(false).replace("width: 40, height: 30)", "width: 40, height: 30, shutter: (0.0, 1.0))");
+    std::fs::write(dir.join("scene.ron"), text).unwrap();
+    let script = "fn frame(t) { let e = entity(\"ball\"); e.position = vec3(-1.5 + 3.0 * t, 0.6, 0); }";
+    std::fs::write(dir.join("move.rhai"), script).unwrap();
+}
+
+#[test]
+fn a_scripted_report_sweeps_the_shutter_samples_and_prices_motion_blur() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    moving(dir);
+    std::fs::write(
+        dir.join("sweep.ron"),
+        "Sweep(axes: [Time(samples: [1, 4, 16])], reference: (aa: 16, time: 16))",
+    )
+    .unwrap();
+    let run = |args: &[&str]| {
+        let out = penumbra(
+            dir,
+            &[&["report", "scene.ron", "--runs", "1", "--quiet", "--width", "24"], args].concat(),
+        );
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    };
+    run(&["-o", "report", "--sweep", "sweep.ron", "--script", "move.rhai", "--frame", "0", "--fps", "1"]);
+    let rows = rows(&dir.join("report"));
+    let labels: Vec<&str> = rows.iter().map(|r| r.1.as_str()).collect();
+    assert_eq!(labels, ["time 1", "time 4", "time 16"]);
+    assert!(
+        rows[0].2 > 1.5 * rows[1].2 && rows[1].2 > 1.5 * rows[2].2,
+        "error does not fall with time samples: {rows:?}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("report/results.json")).unwrap()).unwrap();
+    assert_eq!(json["script"], "move.rhai, frame 0 at 1 fps");
+    assert_eq!(json["reference"]["description"], "aa 16 jittered, time 16");
+    // The first time-sampled point traces 4 times the primary rays of the first.
+    let camera = |i: usize| json["points"][i]["rays"]["camera"].as_u64().unwrap();
+    assert_eq!((camera(0), camera(1)), (24 * 18, 4 * 24 * 18));
+    // The cost of motion blur: the scene as is against the same scene with no shutter.
+    let costs = json["costs"].as_array().unwrap();
+    assert!(
+        costs.iter().any(|c| c["effect"] == "time" && c["seconds_off"].as_f64().unwrap() > 0.0),
+        "{costs:?}"
+    );
+    assert!(std::fs::read_to_string(dir.join("report/index.html"))
+        .unwrap()
+        .contains("move.rhai, frame 0 at 1 fps"));
+
+    // The default sweep has a time axis only where something moves.
+    let axes = |out: &str| -> Vec<String> {
+        let mut axes: Vec<String> = self::rows(&dir.join(out)).into_iter().map(|r| r.0).collect();
+        axes.dedup();
+        axes
+    };
+    run(&["-o", "posed", "--height", "12", "--script", "move.rhai"]);
+    assert_eq!(axes("posed"), ["aa", "adaptive", "time"]);
+    run(&["-o", "still", "--height", "12"]);
+    assert_eq!(axes("still"), ["aa", "adaptive"]);
+    let out = penumbra(dir, &["report", "scene.ron", "--frame", "3"]);
+    assert_eq!(out.status.code(), Some(2), "--frame needs --script");
+}
+
 #[test]
 fn a_reference_read_from_a_file_equal_to_a_variant_gives_zero_error() {
     let tmp = tempfile::tempdir().unwrap();
@@ -239,7 +304,7 @@ fn a_reference_from_another_scene_is_refused_unless_forced() {
 
 #[test]
 fn configurations_render_once_per_round_in_interleaved_rounds() {
-    use penumbra::report::run::{render_count, run, Options};
+    use penumbra::report::run::{effects_of, render_count, run, Options};
     use penumbra::report::sweep::SweepDesc;
     let tmp = tempfile::tempdir().unwrap();
     let path = tmp.path().join("scene.ron");
@@ -261,7 +326,8 @@ fn configurations_render_once_per_round_in_interleaved_rounds() {
     let expected: Vec<&str> =
         std::iter::once("reference").chain(round.iter().copied().cycle().take(12)).collect();
     assert_eq!(labels, expected);
-    assert_eq!(render_count(&desc, &sweep, &options), labels.len());
+    let effects = effects_of(&desc, None).unwrap();
+    assert_eq!(render_count(&desc, &effects, &sweep, &options), labels.len());
     // Both `aa 4` rows report the one configuration: same time, rays and error, 3 rounds each.
     let (a, b) = (&report.points[0], &report.points[1]);
     assert_eq!((&a.label, &b.label), (&"aa 4 jittered".to_owned(), &"aa 4 jittered".to_owned()));
@@ -275,7 +341,7 @@ fn configurations_render_once_per_round_in_interleaved_rounds() {
 fn effects_have_one_name_in_the_command_line_and_the_report() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    std::fs::write(dir.join("sweep.ron"), "Sweep(axes: [Aa(samples: [1]), AreaLight(samples: [1, 2]), Glossy(samples: [1]), Lens(samples: [1])])").unwrap();
+    std::fs::write(dir.join("sweep.ron"), "Sweep(axes: [Aa(samples: [1]), AreaLight(samples: [1, 2]), Glossy(samples: [1]), Lens(samples: [1]), Time(samples: [1])])").unwrap();
     let out = report(dir, true, &["--sweep", "sweep.ron", "--width", "8", "--height", "6"]);
     let rows = rows(&out);
     let json: serde_json::Value =
@@ -295,7 +361,7 @@ fn effects_have_one_name_in_the_command_line_and_the_report() {
         }
     }
     let r = penumbra(dir, &["render", "scene.ron", "-o", "x.png", "--samples", "bogus=2"]);
-    assert!(String::from_utf8_lossy(&r.stderr).contains("expected aa, lens, area_light or glossy"));
+    assert!(String::from_utf8_lossy(&r.stderr).contains("expected aa, lens, area_light, glossy or time"));
     // The older spelling still works.
     let r = penumbra(dir, &["render", "scene.ron", "-o", "x.png", "--width", "8", "--samples", "shadow=2"]);
     assert!(r.status.success());

@@ -236,17 +236,17 @@ fn every_property_reads_back_what_was_written() {
             camera.fov = 35.5;
             camera.aperture = 0.05;
             camera.focus_distance = 6.5;
-            settings.samples = 3; settings.lens_samples = 5; settings.glossy_samples = 7;
+            settings.samples = 3; settings.lens_samples = 5; settings.glossy_samples = 7; settings.time_samples = 6;
             settings.max_depth = 4; settings.seed = 99; settings.width = 64; settings.height = 48;
             settings.adaptive = 0.02; settings.adaptive_depth = 2;
             let got = [b.position, b.rotation, b.scale, b.visible, b.kd, b.ks, b.shininess, b.kr, b.kt,
                        b.ior, b.glossiness, camera.position, camera.look_at, camera.up, camera.fov,
                        camera.aperture, camera.focus_distance, settings.samples, settings.lens_samples,
                        settings.glossy_samples, settings.max_depth, settings.seed, settings.width,
-                       settings.height, settings.adaptive, settings.adaptive_depth];
+                       settings.height, settings.adaptive, settings.adaptive_depth, settings.time_samples];
             let want = [vec3(0.25, 1.5, -0.75), vec3(10, 20, 30), vec3(1.25, 1.25, 1.25), false,
                         vec3(0.1, 0.2, 0.3), 0.35, 12.5, 0.2, 0.3, 1.33, 0.45, vec3(1, 2, -7),
-                        vec3(0, 1, 0), vec3(0, 1, 0.1), 35.5, 0.05, 6.5, 3, 5, 7, 4, 99, 64, 48, 0.02, 2];
+                        vec3(0, 1, 0), vec3(0, 1, 0.1), 35.5, 0.05, 6.5, 3, 5, 7, 4, 99, 64, 48, 0.02, 2, 6];
             for i in 0..want.len() {
                 if got[i] != want[i] { throw `property ${i}: wrote ${want[i]}, read ${got[i]}`; }
             }
@@ -263,6 +263,7 @@ fn every_property_reads_back_what_was_written() {
     let settings = world.world().render_settings();
     assert_eq!((settings.width, settings.height, settings.seed, settings.max_depth), (64, 48, 99, 4));
     assert_eq!((settings.aa.sampling.samples, settings.lens.samples, settings.glossy.samples), (3, 5, 7));
+    assert_eq!(settings.time.samples, 6);
     assert!(settings.adaptive.is_none());
     let camera = snapshot.camera;
     let rig = *world.world().world().resource::<CameraRig>();

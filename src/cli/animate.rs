@@ -65,7 +65,8 @@ pub struct AnimateArgs {
     pub frame: FrameArgs,
 }
 
-fn parse_fps(s: &str) -> Result<f64, String> {
+/// Parses `--fps`: a number in (0, 1000].
+pub fn parse_fps(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(f) if f.is_finite() && f > 0.0 && f <= 1000.0 => Ok(f),
         _ => Err(format!("fps must be a number in (0, 1000], got `{s}`")),

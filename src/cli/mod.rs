@@ -99,7 +99,7 @@ pub fn exit_code(error: &anyhow::Error) -> ExitCode {
             || matches!(e.downcast_ref::<OutputError>(), Some(OutputError::Read { .. }))
             || matches!(
                 e.downcast_ref::<ReportError>(),
-                Some(ReportError::ReferenceSize { .. } | ReportError::Point { .. })
+                Some(ReportError::ReferenceSize { .. } | ReportError::Point { .. } | ReportError::Script(_))
             )
             || matches!(e.downcast_ref::<ManifestError>(), Some(ManifestError::NoFolder { .. }))
     });

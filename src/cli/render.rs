@@ -75,7 +75,7 @@ pub struct FrameArgs {
     /// image, bit for bit; a level this CPU lacks is refused.
     #[arg(long, value_name = "LEVEL", default_value_t = SimdLevel::Auto)]
     pub simd: SimdLevel,
-    /// Sample count of an effect, e.g. `--samples aa=16` (aa, lens, area_light, glossy; repeatable).
+    /// Sample count of an effect, e.g. `--samples aa=16` (aa, lens, area_light, glossy, time; repeatable).
     #[arg(long, value_name = "EFFECT=N", value_parser = parse_samples)]
     samples: Vec<(Effect, u32)>,
     /// Sample pattern of an effect, e.g. `--pattern lens=grid` (grid, random, jittered; repeatable).
@@ -134,6 +134,7 @@ pub enum Effect {
     Lens,
     Shadow,
     Glossy,
+    Time,
 }
 
 fn split_effect(s: &str) -> Result<(Effect, &str), String> {
@@ -144,7 +145,10 @@ fn split_effect(s: &str) -> Result<(Effect, &str), String> {
         // `area_light` as in reports and sweep files; `shadow` is its older spelling.
         "area_light" | "shadow" => Effect::Shadow,
         "glossy" => Effect::Glossy,
-        other => return Err(format!("unknown effect `{other}`; expected aa, lens, area_light or glossy")),
+        "time" => Effect::Time,
+        other => {
+            return Err(format!("unknown effect `{other}`; expected aa, lens, area_light, glossy or time"))
+        }
     };
     Ok((effect, value))
 }
@@ -182,9 +186,10 @@ fn parse_adaptive(s: &str) -> Result<(f32, u32), String> {
 
 /// `--shutter`: a shutter interval, or `none` for an instant.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ShutterFlag(Option<(f32, f32)>);
+pub struct ShutterFlag(pub Option<(f32, f32)>);
 
-fn parse_shutter(s: &str) -> Result<ShutterFlag, String> {
+/// Parses `--shutter OPEN:CLOSE|none`.
+pub fn parse_shutter(s: &str) -> Result<ShutterFlag, String> {
     if s == "none" {
         return Ok(ShutterFlag(None));
     }
@@ -386,6 +391,7 @@ impl FrameArgs {
                 Effect::Aa => ("settings.aa.samples", "aa"),
                 Effect::Lens => ("camera.lens.samples", "lens"),
                 Effect::Glossy => ("settings.glossy.samples", "glossy"),
+                Effect::Time => ("camera.time.samples", "time"),
                 // Area-light samples each carry 1/samples of the light: no combined rule reads them.
                 Effect::Shadow => continue,
             };
@@ -538,6 +544,7 @@ fn apply_effects(desc: &mut SceneDesc, args: &FrameArgs) {
             Effect::Aa => desc.settings.aa.samples = n,
             Effect::Lens => desc.camera.lens.samples = n,
             Effect::Glossy => desc.settings.glossy.samples = n,
+            Effect::Time => desc.camera.time.samples = n,
             Effect::Shadow => desc.lights.iter_mut().for_each(|l| {
                 if let LightDesc::Rect { samples, .. } | LightDesc::Disk { samples, .. } = l {
                     *samples = n;
@@ -550,6 +557,7 @@ fn apply_effects(desc: &mut SceneDesc, args: &FrameArgs) {
             Effect::Aa => desc.settings.aa.pattern = p,
             Effect::Lens => desc.camera.lens.pattern = p,
             Effect::Glossy => desc.settings.glossy.pattern = p,
+            Effect::Time => desc.camera.time.pattern = p,
             Effect::Shadow => desc.lights.iter_mut().for_each(|l| {
                 if let LightDesc::Rect { pattern, .. } | LightDesc::Disk { pattern, .. } = l {
                     *pattern = p;

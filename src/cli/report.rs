@@ -9,15 +9,19 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use penumbra::film::write_atomically;
 use penumbra::report::reference::{read_reference, ReferenceFile};
-use penumbra::report::run::{csv, effects_of, render_count, run as run_report, Options, DEFAULT_RUNS};
+use penumbra::report::run::{
+    csv, effects_of, render_count, run as run_report, Options, ScriptFrame, DEFAULT_RUNS,
+};
 use penumbra::report::sweep::SweepDesc;
 use penumbra::report::{html, plot};
 use penumbra::scene;
+use penumbra::script::{Limits, Script};
 use penumbra::simd::SimdLevel;
 
+use super::animate::parse_fps;
 use super::bad_input;
 use super::meta::{sha256_hex, SCENE, SCENE_HASH};
-use super::render::{apply_size, check_simd, say};
+use super::render::{apply_size, check_simd, parse_shutter, say, ShutterFlag};
 
 /// Arguments of `penumbra report`.
 #[derive(Args, Debug)]
@@ -36,6 +40,22 @@ pub struct ReportArgs {
     /// Use a `--reference` that records another scene (a warning instead of an error).
     #[arg(long)]
     pub force: bool,
+    /// Pose every render at a frame of this Rhai script (`fn frame(t)`, as `penumbra animate`
+    /// runs it): what moves while the shutter is open is blurred, and the sweep gains a `time`
+    /// axis. The script's output is dropped; a script that sets sample counts overrides the
+    /// sweep's.
+    #[arg(long, value_name = "SCRIPT.rhai")]
+    pub script: Option<PathBuf>,
+    /// The script frame to pose the scene at (time FRAME / fps).
+    #[arg(long, default_value_t = 0, requires = "script")]
+    pub frame: u32,
+    /// Frames per second of the script's clock.
+    #[arg(long, default_value_t = 24.0, value_parser = parse_fps, requires = "script")]
+    pub fps: f64,
+    /// Motion blur: `OPEN:CLOSE` as fractions of the frame interval, or `none` (overrides the
+    /// scene's `camera.shutter`; `none` makes every render an instant).
+    #[arg(long, value_name = "OPEN:CLOSE", value_parser = parse_shutter)]
+    pub shutter: Option<ShutterFlag>,
     /// Report folder (created if missing).
     #[arg(short, long, default_value = "report")]
     pub output: PathBuf,
@@ -103,9 +123,21 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
     check_simd(args.simd)?;
     let mut desc = scene::load_scene(&args.scene)?;
     apply_size(&mut desc, args.width, args.height);
+    if let Some(ShutterFlag(shutter)) = args.shutter {
+        desc.camera.shutter = shutter;
+    }
+    let script = match &args.script {
+        Some(path) => Some(ScriptFrame {
+            script: Script::load(path, Limits::default())?,
+            frame: args.frame,
+            fps: args.fps,
+        }),
+        None => None,
+    };
+    let effects = effects_of(&desc, script.as_ref())?;
     let sweep = match &args.sweep {
         Some(path) => SweepDesc::load(path)?,
-        None => SweepDesc::default_for(&effects_of(&desc)),
+        None => SweepDesc::default_for(&effects),
     };
     let reference = match &args.reference {
         Some(path) => {
@@ -123,10 +155,10 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
     }
     std::fs::create_dir_all(&args.output)
         .with_context(|| format!("{}: cannot create the report folder", args.output.display()))?;
-    let options = Options { runs: args.runs as usize, reference, simd: args.simd };
+    let options = Options { runs: args.runs as usize, reference, simd: args.simd, script };
 
     let bar = ProgressBar::with_draw_target(
-        Some(render_count(&desc, &sweep, &options) as u64),
+        Some(render_count(&desc, &effects, &sweep, &options) as u64),
         if args.quiet { ProgressDrawTarget::hidden() } else { ProgressDrawTarget::stderr() },
     );
     bar.set_style(

@@ -135,6 +135,7 @@ fn summary(page: &mut String, r: &Report) {
     let axes = r.axes();
     let rows = [
         ("Scene", escape(&r.scene)),
+        ("Posed by", escape(r.script.as_deref().unwrap_or("nothing (the scene as loaded)"))),
         ("Image", format!("{} × {} px", r.width, r.height)),
         ("Threads", r.threads.to_string()),
         ("SIMD", r.simd.name().to_owned()),

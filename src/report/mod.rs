@@ -91,6 +91,9 @@ pub struct Reference {
 pub struct Report {
     /// The scene, as given on the command line.
     pub scene: String,
+    /// The script frame every render was posed at, e.g. `scripts/motion.rhai, frame 6 at 24
+    /// fps`; `None` when the scene was rendered as loaded.
+    pub script: Option<String>,
     /// Image size in pixels.
     pub width: u32,
     /// Image height in pixels.
@@ -166,6 +169,7 @@ mod tests {
     fn the_pareto_front_keeps_only_undominated_points() {
         let report = Report {
             scene: "s".into(),
+            script: None,
             width: 1,
             height: 1,
             threads: 1,

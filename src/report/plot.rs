@@ -578,6 +578,7 @@ pub(crate) mod tests {
     pub(crate) fn synthetic_report() -> Report {
         Report {
             scene: "scenes/cornell <glossy> & \"lens\".ron".into(),
+            script: None,
             width: 320,
             height: 240,
             threads: 8,

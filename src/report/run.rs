@@ -11,6 +11,7 @@ use super::{EffectCost, Point, Reference, Report};
 use crate::film::metrics::{error_heatmap, psnr, rmse, ssim};
 use crate::film::{write_atomically, write_png, Film, OutputError};
 use crate::scene::{spawn_world, SceneDesc};
+use crate::script::{Animation, Script, ScriptError};
 use crate::simd::SimdLevel;
 use crate::store::SoaStore;
 use crate::trace::{render, Effects, RenderSettings, RenderStats, TraceScene};
@@ -60,6 +61,32 @@ pub enum ReportError {
         /// Why.
         message: String,
     },
+    /// The script that poses the scene failed (or does not define `fn frame(t)`).
+    #[error(transparent)]
+    Script(#[from] ScriptError),
+}
+
+/// A script frame a report measures: every configuration (the reference included) is the
+/// scene as `script` leaves it at `frame`, stepped as `penumbra animate` steps it, so what
+/// moves while the shutter is open is blurred. The script's output is dropped.
+#[derive(Clone)]
+pub struct ScriptFrame {
+    /// The script (`fn frame(t)`, optionally `fn setup()`).
+    pub script: Script,
+    /// The frame (time `frame / fps`).
+    pub frame: u32,
+    /// Frames per second.
+    pub fps: f64,
+}
+
+impl std::fmt::Debug for ScriptFrame {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ScriptFrame")
+            .field("script", &self.script.file())
+            .field("frame", &self.frame)
+            .field("fps", &self.fps)
+            .finish()
+    }
 }
 
 /// Interleaved repetitions a report makes by default.
@@ -76,11 +103,13 @@ pub struct Options {
     /// How every render traces its rays (`--simd`; the same images at every level, so only
     /// the times depend on it).
     pub simd: SimdLevel,
+    /// The script frame every configuration is posed at, if any (`--script`, `--frame`).
+    pub script: Option<ScriptFrame>,
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Self { runs: DEFAULT_RUNS, reference: None, simd: SimdLevel::Auto }
+        Self { runs: DEFAULT_RUNS, reference: None, simd: SimdLevel::Auto, script: None }
     }
 }
 
@@ -100,8 +129,8 @@ pub struct Plan {
     pub costs: Vec<(&'static str, usize, usize)>,
 }
 
-/// The plan of a report on `desc` with `sweep`.
-pub fn plan(desc: &SceneDesc, sweep: &SweepDesc) -> Plan {
+/// The plan of a report on `desc` (whose effects, as posed, are `effects`) with `sweep`.
+pub fn plan(desc: &SceneDesc, effects: &Effects, sweep: &SweepDesc) -> Plan {
     let mut configs: Vec<(String, SceneDesc)> = Vec::new();
     let mut add = |label: String, scene: SceneDesc| match configs.iter().position(|(_, s)| *s == scene) {
         Some(i) => i,
@@ -111,7 +140,7 @@ pub fn plan(desc: &SceneDesc, sweep: &SweepDesc) -> Plan {
         }
     };
     let variants = sweep.variants().iter().map(|v| add(v.label(), v.apply(desc))).collect();
-    let axes = cost_axes(desc, sweep);
+    let axes = cost_axes(desc, effects, sweep);
     let mut costs = Vec::new();
     if !axes.is_empty() {
         let on = add("scene as is".into(), desc.clone());
@@ -143,30 +172,35 @@ pub fn median(times: &[f64]) -> f64 {
 }
 
 /// The number of renders [`run`] makes, for progress bars.
-pub fn render_count(desc: &SceneDesc, sweep: &SweepDesc, options: &Options) -> usize {
+pub fn render_count(desc: &SceneDesc, effects: &Effects, sweep: &SweepDesc, options: &Options) -> usize {
     let reference = usize::from(options.reference.is_none());
-    reference + plan(desc, sweep).configs.len() * options.runs.max(1)
+    reference + plan(desc, effects, sweep).configs.len() * options.runs.max(1)
 }
 
-/// The effects of a scene description.
-pub fn effects_of(desc: &SceneDesc) -> Effects {
-    let mut world: SceneWorld = spawn_world(desc);
-    world.update().effects
+/// The effects of a scene description, posed at `script`'s frame when given (motion comes
+/// only from a script).
+pub fn effects_of(desc: &SceneDesc, script: Option<&ScriptFrame>) -> Result<Effects, ReportError> {
+    Ok(prepare(desc, SimdLevel::Scalar, script)?.0.effects)
 }
 
 /// A scene ready to render: its snapshot and settings.
 type Prepared = (Arc<TraceScene<SoaStore>>, RenderSettings);
 
-/// `desc` ready to render, its rays traced at `simd`.
-fn prepare(desc: &SceneDesc, simd: SimdLevel) -> Prepared {
-    let mut world: SceneWorld = spawn_world(desc);
-    let snapshot = world.update();
-    (snapshot, RenderSettings { simd, ..world.render_settings() })
+/// `desc` ready to render, its rays traced at `simd`: spawned as it is, or posed at the
+/// script's frame (with its shutter's motion).
+fn prepare(desc: &SceneDesc, simd: SimdLevel, script: Option<&ScriptFrame>) -> Result<Prepared, ReportError> {
+    let Some(s) = script else {
+        let mut world: SceneWorld = spawn_world(desc);
+        let snapshot = world.update();
+        return Ok((snapshot, RenderSettings { simd, ..world.render_settings() }));
+    };
+    let mut animation: Animation = Animation::with_output(desc, &s.script, s.fps, false)?;
+    let snapshot = animation.step_to(s.frame)?;
+    Ok((snapshot, RenderSettings { simd, ..animation.world().world().render_settings() }))
 }
 
 /// Axes whose cost is measured: those in the sweep that the scene's own settings use.
-fn cost_axes(desc: &SceneDesc, sweep: &SweepDesc) -> Vec<&'static str> {
-    let effects = effects_of(desc);
+fn cost_axes(desc: &SceneDesc, effects: &Effects, sweep: &SweepDesc) -> Vec<&'static str> {
     let mut axes: Vec<&'static str> = Vec::new();
     for axis in sweep.axes.iter().map(|a| a.name()) {
         let used = match axis {
@@ -175,6 +209,7 @@ fn cost_axes(desc: &SceneDesc, sweep: &SweepDesc) -> Vec<&'static str> {
             "area_light" => effects.area_lights,
             "glossy" => effects.glossy || effects.blurry,
             "lens" => effects.lens && desc.camera.lens.samples > 1,
+            "time" => effects.motion,
             _ => false,
         };
         if used && !axes.contains(&axis) {
@@ -221,11 +256,13 @@ pub fn run(
     out: &Path,
     progress: Progress,
 ) -> Result<Report, ReportError> {
-    let effects = effects_of(desc);
+    let script = options.script.as_ref();
+    let effects = effects_of(desc, script)?;
     let (width, height) = (desc.camera.width, desc.camera.height);
     // Every configuration obeys the scene's combined rules before anything renders.
     let reference_scene = ("reference".to_owned(), sweep.reference.apply(desc));
-    for (label, scene) in std::iter::once(&reference_scene).chain(&plan(desc, sweep).configs) {
+    let plan = plan(desc, &effects, sweep);
+    for (label, scene) in std::iter::once(&reference_scene).chain(&plan.configs) {
         crate::scene::limits::check(scene)
             .map_err(|violation| ReportError::Point { label: label.clone(), violation })?;
     }
@@ -248,7 +285,7 @@ pub fn run(
             (film.clone(), info)
         }
         None => {
-            let (snapshot, settings) = prepare(&sweep.reference.apply(desc), options.simd);
+            let (snapshot, settings) = prepare(&reference_scene.1, options.simd, script)?;
             progress("reference");
             let started = Instant::now();
             let (film, stats) = render(&snapshot, &settings);
@@ -266,13 +303,13 @@ pub fn run(
     let (reference_film, reference_info) = reference;
 
     // The image files of a configuration are named after the first variant that uses it.
-    let plan = plan(desc, sweep);
     let variants = sweep.variants();
     let mut stems: Vec<Option<String>> = vec![None; plan.configs.len()];
     for (i, (&c, variant)) in plan.variants.iter().zip(&variants).enumerate() {
         stems[c].get_or_insert_with(|| format!("{i:02}-{}", slug(&variant.label())));
     }
-    let prepared: Vec<Prepared> = plan.configs.iter().map(|(_, d)| prepare(d, options.simd)).collect();
+    let prepared: Vec<Prepared> =
+        plan.configs.iter().map(|(_, d)| prepare(d, options.simd, script)).collect::<Result<_, _>>()?;
     let mut times = vec![Vec::with_capacity(options.runs.max(1)); plan.configs.len()];
     let mut measured: Vec<Option<Measured>> = (0..plan.configs.len()).map(|_| None).collect();
     for c in schedule(plan.configs.len(), options.runs) {
@@ -316,6 +353,7 @@ pub fn run(
         .collect();
     Ok(Report {
         scene: scene.to_owned(),
+        script: script.map(|s| format!("{}, frame {} at {} fps", s.script.file(), s.frame, s.fps)),
         width,
         height,
         threads: rayon::current_num_threads(),
@@ -418,13 +456,13 @@ mod tests {
         let sweep =
             SweepDesc::parse("Sweep(axes: [Aa(samples: [2, 2, 8]), AreaLight(samples: [4, 16])])", "w.ron")
                 .unwrap();
-        let plan = plan(&desc, &sweep);
+        let plan = plan(&desc, &effects_of(&desc, None).unwrap(), &sweep);
         // aa 2 jittered is the scene as is, and so is area_light 4 (the light's own count).
         assert_eq!(plan.variants, [0, 0, 1, 0, 2]);
         let labels: Vec<&str> = plan.configs.iter().map(|(l, _)| l.as_str()).collect();
         assert_eq!(labels, ["aa 2 jittered", "aa 8 jittered", "area_light 16", "aa off", "area_light off"]);
         assert_eq!(plan.costs, [("aa", 0, 3), ("area_light", 0, 4)]);
         let options = Options { runs: 3, ..Options::default() };
-        assert_eq!(render_count(&desc, &sweep, &options), 1 + 5 * 3);
+        assert_eq!(render_count(&desc, &effects_of(&desc, None).unwrap(), &sweep, &options), 1 + 5 * 3);
     }
 }

@@ -9,13 +9,17 @@
 //!         AreaLight(samples: [1, 4, 16, 64]),
 //!         Glossy(samples: [1, 4, 16, 64]),
 //!         Lens(samples: [1, 4, 16]),
+//!         Time(samples: [1, 2, 4, 8]),
 //!     ],
-//!     reference: (aa: 64, lens: 16, area_light: 256, glossy: 256),
+//!     reference: (aa: 64, lens: 16, area_light: 256, glossy: 256, time: 4),
 //! )
 //! ```
 //!
 //! While one axis varies, every other effect keeps the scene's own setting: each curve shows
-//! what that one sample count buys in the image a user would ship.
+//! what that one sample count buys in the image a user would ship. `Time` is the shutter's
+//! samples (`camera.time.samples`, time samples per camera sample); it changes the image only
+//! where something moves while the shutter is open, which takes a script (`penumbra report
+//! --script`).
 
 use std::path::{Path, PathBuf};
 
@@ -91,6 +95,11 @@ pub enum Axis {
         /// Sample counts.
         samples: Vec<u32>,
     },
+    /// Time samples per camera sample (motion blur: the shutter's samples).
+    Time {
+        /// Sample counts.
+        samples: Vec<u32>,
+    },
 }
 
 fn jittered() -> Vec<Pattern> {
@@ -110,6 +119,7 @@ impl Axis {
             Axis::AreaLight { .. } => "area_light",
             Axis::Glossy { .. } => "glossy",
             Axis::Lens { .. } => "lens",
+            Axis::Time { .. } => "time",
         }
     }
 
@@ -128,6 +138,7 @@ impl Axis {
             Axis::AreaLight { samples } => counts(samples, Setting::AreaLight),
             Axis::Glossy { samples } => counts(samples, Setting::Glossy),
             Axis::Lens { samples } => counts(samples, Setting::Lens),
+            Axis::Time { samples } => counts(samples, Setting::Time),
         };
         settings.into_iter().map(|setting| Variant { axis: self.name(), setting }).collect()
     }
@@ -155,7 +166,8 @@ impl Axis {
             Axis::Aa { samples, .. }
             | Axis::AreaLight { samples }
             | Axis::Glossy { samples }
-            | Axis::Lens { samples } => counts(samples),
+            | Axis::Lens { samples }
+            | Axis::Time { samples } => counts(samples),
             Axis::Adaptive { thresholds, depths } => {
                 if thresholds.is_empty() {
                     return Err(("thresholds".into(), "lists no values; give at least one threshold".into()));
@@ -194,6 +206,8 @@ pub enum Setting {
     Glossy(u32),
     /// Lens samples.
     Lens(u32),
+    /// Time samples.
+    Time(u32),
 }
 
 /// A point of the sweep: its axis and setting.
@@ -223,6 +237,7 @@ impl Variant {
             Setting::AreaLight(n) => format!("area_light {n}"),
             Setting::Glossy(n) => format!("glossy {n}"),
             Setting::Lens(n) => format!("lens {n}"),
+            Setting::Time(n) => format!("time {n}"),
         }
     }
 
@@ -234,7 +249,7 @@ impl Variant {
                 vec![pair("samples", n.to_string()), pair("pattern", pattern_name(p).into())]
             }
             Setting::Adaptive(t, d) => vec![pair("threshold", t.to_string()), pair("depth", d.to_string())],
-            Setting::AreaLight(n) | Setting::Glossy(n) | Setting::Lens(n) => {
+            Setting::AreaLight(n) | Setting::Glossy(n) | Setting::Lens(n) | Setting::Time(n) => {
                 vec![pair("samples", n.to_string())]
             }
         }
@@ -255,6 +270,7 @@ impl Variant {
             Setting::AreaLight(n) => set_area_samples(&mut d, n),
             Setting::Glossy(n) => d.settings.glossy.samples = n,
             Setting::Lens(n) => d.camera.lens.samples = n,
+            Setting::Time(n) => d.camera.time.samples = n,
         }
         d
     }
@@ -280,11 +296,13 @@ pub struct ReferenceSettings {
     pub area_light: u32,
     /// Glossy/blurry rays.
     pub glossy: u32,
+    /// Time samples per camera sample (where something moves).
+    pub time: u32,
 }
 
 impl Default for ReferenceSettings {
     fn default() -> Self {
-        Self { aa: 64, lens: 16, area_light: 256, glossy: 256 }
+        Self { aa: 64, lens: 16, area_light: 256, glossy: 256, time: 4 }
     }
 }
 
@@ -297,6 +315,8 @@ impl ReferenceSettings {
         d.settings.adaptive = None;
         d.camera.lens.samples = self.lens;
         d.settings.glossy.samples = self.glossy;
+        d.camera.time.samples = self.time;
+        d.camera.time.pattern = Pattern::Jittered;
         set_area_samples(&mut d, self.area_light);
         d
     }
@@ -312,6 +332,9 @@ impl ReferenceSettings {
         }
         if effects.glossy || effects.blurry {
             parts.push(format!("glossy {}", self.glossy));
+        }
+        if effects.motion {
+            parts.push(format!("time {}", self.time));
         }
         parts.join(", ")
     }
@@ -333,8 +356,8 @@ const COUNTS: [u32; 4] = [1, 4, 16, 64];
 
 impl SweepDesc {
     /// The sweep a scene with `effects` calls for: AA (three patterns) and adaptive always;
-    /// area-light, glossy and lens samples only when the scene has area lights, glossy or
-    /// blurry materials, or an aperture.
+    /// area-light, glossy, lens and time samples only when the scene has area lights, glossy
+    /// or blurry materials, an aperture, or something moving while the shutter is open.
     pub fn default_for(effects: &Effects) -> Self {
         let mut axes = vec![
             Axis::Aa {
@@ -351,6 +374,9 @@ impl SweepDesc {
         }
         if effects.lens {
             axes.push(Axis::Lens { samples: COUNTS.to_vec() });
+        }
+        if effects.motion {
+            axes.push(Axis::Time { samples: vec![1, 2, 4, 8] });
         }
         Self { axes, reference: ReferenceSettings::default() }
     }
@@ -387,8 +413,14 @@ impl SweepDesc {
             })?;
         }
         let r = &sweep.reference;
-        for (name, n) in [("aa", r.aa), ("lens", r.lens), ("area_light", r.area_light), ("glossy", r.glossy)]
-        {
+        let counts = [
+            ("aa", r.aa),
+            ("lens", r.lens),
+            ("area_light", r.area_light),
+            ("glossy", r.glossy),
+            ("time", r.time),
+        ];
+        for (name, n) in counts {
             if !(1..=MAX_SAMPLES).contains(&n) {
                 let field = format!("reference.{name}");
                 return Err(invalid(at(&field), field, format!("must be in 1..={MAX_SAMPLES}, got {n}")));
@@ -403,7 +435,8 @@ impl SweepDesc {
     }
 }
 
-/// The setting an effect's cost is measured with, "off": one sample (or adaptive off).
+/// The setting an effect's cost is measured with, "off": one sample (or adaptive off; for
+/// `time`, no shutter: the cost of motion blur itself).
 pub fn cheapest(axis: &str, desc: &SceneDesc) -> Option<SceneDesc> {
     let mut d = desc.clone();
     match axis {
@@ -412,6 +445,7 @@ pub fn cheapest(axis: &str, desc: &SceneDesc) -> Option<SceneDesc> {
         "area_light" => set_area_samples(&mut d, 1),
         "glossy" => d.settings.glossy.samples = 1,
         "lens" => d.camera.lens.samples = 1,
+        "time" => d.camera.shutter = None,
         _ => return None,
     }
     Some(d)
@@ -434,10 +468,22 @@ mod tests {
         let none = SweepDesc::default_for(&Effects::default());
         let names: Vec<&str> = none.axes.iter().map(Axis::name).collect();
         assert_eq!(names, ["aa", "adaptive"]);
-        let all = Effects { area_lights: true, glossy: true, lens: true, ..Effects::default() };
+        let all = Effects { area_lights: true, glossy: true, lens: true, motion: true, ..Effects::default() };
         let names: Vec<&str> = SweepDesc::default_for(&all).axes.iter().map(Axis::name).collect();
-        assert_eq!(names, ["aa", "adaptive", "area_light", "glossy", "lens"]);
+        assert_eq!(names, ["aa", "adaptive", "area_light", "glossy", "lens", "time"]);
         assert_eq!(SweepDesc::default_for(&Effects::default()).variants().len(), 12 + 4);
+    }
+
+    #[test]
+    fn motion_blur_is_off_in_the_time_axis_cost_and_on_in_the_reference() {
+        let mut scene = crate::scene::default_scene();
+        scene.camera.shutter = Some((0.0, 0.5));
+        assert_eq!(cheapest("time", &scene).unwrap().camera.shutter, None);
+        let reference = ReferenceSettings::default().apply(&scene);
+        assert_eq!((reference.camera.shutter, reference.camera.time.samples), (Some((0.0, 0.5)), 4));
+        let moving = Effects { motion: true, ..Effects::default() };
+        assert_eq!(ReferenceSettings::default().describe(&moving), "aa 64 jittered, time 4");
+        assert_eq!(ReferenceSettings::default().describe(&Effects::default()), "aa 64 jittered");
     }
 
     #[test]
@@ -454,6 +500,17 @@ mod tests {
             e,
             "s.ron:1:32: field `axes[0].samples[1]`: lens: sample count must be in 1..=4096, got 0"
         );
+        let sweep =
+            SweepDesc::parse("Sweep(axes: [Time(samples: [1, 8])], reference: (time: 16))", "s.ron").unwrap();
+        assert_eq!(sweep.variants()[1].label(), "time 8");
+        assert_eq!(sweep.variants()[1].apply(&crate::scene::default_scene()).camera.time.samples, 8);
+        assert_eq!(sweep.reference.time, 16);
+        let e = SweepDesc::parse("Sweep(axes: [Time(samples: [4097])])", "s.ron").unwrap_err().to_string();
+        assert!(e.contains("field `axes[0].samples[0]`: time: sample count must be in 1..=4096"), "{e}");
+        let e = SweepDesc::parse("Sweep(axes: [Time(samples: [1])], reference: (time: 0))", "s.ron")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("field `reference.time`: must be in 1..=4096, got 0"), "{e}");
         let e = SweepDesc::parse("Sweep(axes: [])", "s.ron").unwrap_err().to_string();
         assert!(e.contains("field `axes`") && e.contains("no axis"), "{e}");
         let e = SweepDesc::parse("Sweep(axes: [Aa(samples: [1])], reference: (aa: 0))", "s.ron").unwrap_err();

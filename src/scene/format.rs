@@ -107,6 +107,12 @@ pub struct CameraDesc {
     /// sample takes a time in the interval. Default none: every frame is an instant.
     #[serde(default)]
     pub shutter: Option<(f32, f32)>,
+    /// Time samples per camera sample, used only where something moves while the shutter is
+    /// open: each AA position (and lens point) is traced at this many times, stratified over
+    /// the shutter interval with the pixel's other samples. Default 1, `Jittered` (`Grid` puts
+    /// each time at its stratum's middle, `Random` anywhere in the interval).
+    #[serde(default)]
+    pub time: SamplingDesc,
 }
 
 /// How many points a distribution effect takes over its domain, and how they are placed.

@@ -8,6 +8,10 @@
 //! - **Lens.** Every lens point (`position` ± `aperture`) and the focus point (`position` +
 //!   `focus_distance` along the view) lie within ±[`MAX_COORDINATE`], so the lens maths
 //!   stays finite.
+//! - **Camera samples.** A pixel's camera samples, `settings.aa.samples` ×
+//!   `camera.lens.samples` (with an aperture) × `camera.time.samples`, are at most
+//!   [`MAX_CAMERA_SAMPLES`], so every sample has a 32-bit index. Time samples count whether or
+//!   not anything moves: what moves comes from a script, after this check.
 //! - **Radiance.** The radiance a pixel can sum, [`RadianceBudget::values`] ×
 //!   [`RadianceBudget::per_value`], is at most [`MAX_RADIANCE_SUM`] in every channel.
 //!
@@ -29,6 +33,10 @@ use super::validate::{Violation, MAX_COORDINATE};
 /// keeps ≤ 1.01), for an exposure of up to 2^30 in tone mapping, and for 10⁸ lights.
 pub const MAX_RADIANCE_SUM: f64 = 1e29;
 
+/// Largest number of camera samples a pixel may take: AA positions × lens points × times
+/// (4096², what AA and lens samples at their largest already make).
+pub const MAX_CAMERA_SAMPLES: u64 = 1 << 24;
+
 /// Checks the combined rules on a validated scene whose meshes are loaded; the first
 /// violation in document order.
 ///
@@ -44,6 +52,9 @@ pub fn check(scene: &SceneDesc) -> Result<(), Violation> {
     let root = FieldPath::root();
     if let Some(v) = lens_violation(&scene.camera) {
         return Err(under(&root.clone().field("camera"), v));
+    }
+    if let Some(v) = camera_samples_violation(scene) {
+        return Err(v);
     }
     if let Some(v) = radiance_violation(scene) {
         return Err(v);
@@ -165,6 +176,28 @@ pub fn lens_violation(camera: &CameraDesc) -> Option<Violation> {
     None
 }
 
+/// The camera-samples rule: `settings.aa.samples` × `camera.lens.samples` (with an aperture)
+/// × `camera.time.samples` ≤ [`MAX_CAMERA_SAMPLES`], reported at `camera.time.samples` (the
+/// only factor that can push the product past it). Adaptive renders trace at most
+/// `camera.time.samples` rays per lattice point, so only the time samples count there.
+pub fn camera_samples_violation(scene: &SceneDesc) -> Option<Violation> {
+    let camera = &scene.camera;
+    let lens = if camera.aperture > 0.0 { u64::from(camera.lens.samples) } else { 1 };
+    let per_position = match scene.settings.adaptive {
+        Some(_) => 1,
+        None => u64::from(scene.settings.aa.samples) * lens,
+    };
+    let n = per_position * u64::from(camera.time.samples);
+    (n > MAX_CAMERA_SAMPLES).then(|| {
+        let rule = format!(
+            "a pixel takes settings.aa.samples {} × camera.lens.samples {lens} (with camera.aperture > 0) \
+             × camera.time.samples {} = {n} camera samples, more than {MAX_CAMERA_SAMPLES}; lower one of them",
+            scene.settings.aa.samples, camera.time.samples
+        );
+        violation("camera.time.samples", rule)
+    })
+}
+
 // ---------------------------------------------------------------------------------------
 // Radiance
 // ---------------------------------------------------------------------------------------
@@ -203,6 +236,14 @@ impl RadianceBudget {
                     n *= f64::from(scene.camera.lens.samples);
                 }
                 n
+            }
+        };
+        // Time samples multiply the camera samples (and a lattice point's) where something moves.
+        let camera = match scene.camera.time.samples {
+            1 => camera,
+            n => {
+                parts.push(format!("camera.time.samples {n}"));
+                camera * f64::from(n)
             }
         };
         parts.push(format!("settings.glossy.samples {}", s.glossy.samples));
@@ -553,6 +594,25 @@ mod tests {
         let v = radiance_violation(&scene).expect("3e39 overflows");
         assert_eq!(v.path.to_string(), format!("lights[{}].intensity", scene.lights.len() - 1));
         assert!(v.rule.contains("colour × intensity = 10 × 3e38 = 3e39 in r is too bright"), "{}", v.rule);
+    }
+
+    #[test]
+    fn camera_samples_must_fit_32_bits_and_blame_the_time_samples() {
+        let mut scene = crate::scene::default_scene();
+        (scene.settings.aa.samples, scene.camera.time.samples) = (4096, 4096);
+        assert_eq!(camera_samples_violation(&scene), None, "a pinhole at 4096 × 4096 is the limit");
+        (scene.camera.aperture, scene.camera.lens.samples) = (0.1, 2);
+        let v = camera_samples_violation(&scene).expect("the lens counts with an aperture");
+        assert_eq!(v.path.to_string(), "camera.time.samples");
+        assert!(
+            v.rule.contains("× camera.time.samples 4096 = 33554432 camera samples, more than 16777216"),
+            "{}",
+            v.rule
+        );
+        scene.settings.adaptive = Some(crate::scene::AdaptiveDesc { threshold: 0.1, max_depth: 3 });
+        assert_eq!(camera_samples_violation(&scene), None, "a lattice point takes only the times");
+        scene.settings.adaptive = None;
+        assert_eq!(check(&scene).unwrap_err().path.to_string(), "camera.time.samples");
     }
 
     #[test]

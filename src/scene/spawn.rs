@@ -62,6 +62,7 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
         max_secondary_rays: s.max_secondary_rays,
         // Validated on load: `0 <= open <= close <= 1`.
         shutter: c.shutter.and_then(|(open, close)| crate::camera::Shutter::new(open, close).ok()),
+        time: sampling(&c.time),
     });
 
     for (i, object) in desc.objects.iter().enumerate() {

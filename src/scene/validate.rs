@@ -201,7 +201,8 @@ fn camera(path: &FieldPath, camera: &CameraDesc) -> Check {
             return fail(path, "shutter", rule);
         }
     }
-    sampling(&path.clone().field("lens"), &camera.lens)
+    sampling(&path.clone().field("lens"), &camera.lens)?;
+    sampling(&path.clone().field("time"), &camera.time)
 }
 
 fn settings(path: &FieldPath, settings: &SettingsDesc) -> Check {

@@ -135,16 +135,31 @@ pub struct Animation<S: PrimitiveStore + 'static = SoaStore> {
     next: u32,
     /// Seconds of the last `step_to`: running the script, then updating the World.
     timing: (f64, f64),
+    /// Whether the script's `print` output is dropped on every frame (reports).
+    muted: bool,
 }
 
 impl<S: PrimitiveStore + 'static> Animation<S> {
     /// Spawns `desc`, attaches `script` (which must define `fn frame(t)`) and runs `setup()`.
     pub fn new(desc: &SceneDesc, script: &Script, fps: f64) -> Result<Self, ScriptError> {
+        Self::with_output(desc, script, fps, true)
+    }
+
+    /// [`Self::new`], with the script's `print` and `debug` output shown (as `animate` does,
+    /// once per rendered frame) or dropped throughout, `setup()` included (`report`, which
+    /// steps the same script once per configuration).
+    pub fn with_output(
+        desc: &SceneDesc,
+        script: &Script,
+        fps: f64,
+        shown: bool,
+    ) -> Result<Self, ScriptError> {
         script.require("frame", 1, "`animate` calls once per frame with the time in seconds")?;
         let mut world = ScriptedWorld::from_scene(desc, script);
+        world.mute_output(!shown);
         world.setup()?;
         let shutter = desc.camera.shutter.and_then(|(open, close)| Shutter::new(open, close).ok());
-        Ok(Self { world, fps, shutter, close: None, next: 0, timing: (0.0, 0.0) })
+        Ok(Self { world, fps, shutter, close: None, next: 0, timing: (0.0, 0.0), muted: !shown })
     }
 
     /// Runs the script up to `frame` (each frame not yet run, in order, with output shown only
@@ -162,10 +177,10 @@ impl<S: PrimitiveStore + 'static> Animation<S> {
             if let (true, Some(shutter)) = (n == frame, self.shutter) {
                 self.close = Some(self.world.evaluate_at(Clock::at_offset(n, shutter.close, self.fps))?);
             }
-            self.world.mute_output(n < frame);
+            self.world.mute_output(self.muted || n < frame);
             let open = self.shutter.map_or(0.0, |s| s.open);
             let ran = self.world.frame(Clock::at_offset(n, open, self.fps));
-            self.world.mute_output(false);
+            self.world.mute_output(self.muted);
             ran?;
             self.next += 1;
         }

@@ -139,6 +139,8 @@ pub struct SettingsState {
     pub samples: u32,
     /// Lens samples per camera sample.
     pub lens_samples: u32,
+    /// Time samples per camera sample (motion blur).
+    pub time_samples: u32,
     /// Rays per glossy reflection or blurry refraction.
     pub glossy_samples: u32,
     /// Adaptive supersampling: (threshold, deepest level), or off.
@@ -368,6 +370,7 @@ impl ScriptState {
                 height: s.height,
                 samples: s.aa.sampling.samples,
                 lens_samples: s.lens.samples,
+                time_samples: s.time.samples,
                 glossy_samples: s.glossy.samples,
                 adaptive: s.adaptive.map(|a| (a.threshold as f64, a.max_depth)),
                 max_depth: s.max_depth,
@@ -518,6 +521,7 @@ pub fn apply_script_writes(
         next.height = s.height;
         next.aa.sampling.samples = s.samples;
         next.lens.samples = s.lens_samples;
+        next.time.samples = s.time_samples;
         next.glossy.samples = s.glossy_samples;
         next.adaptive = s
             .adaptive

@@ -110,6 +110,9 @@ pub struct RenderSettings {
     /// which the World derives over this interval; kept here so it is in every frame's
     /// provenance.
     pub shutter: Option<crate::camera::Shutter>,
+    /// Time samples per camera sample where something moves while the shutter is open (each
+    /// AA position and lens point is traced at this many times); ignored elsewhere.
+    pub time: Sampling,
 }
 
 impl Default for RenderSettings {
@@ -128,6 +131,7 @@ impl Default for RenderSettings {
             max_secondary_rays: DEFAULT_MAX_SECONDARY_RAYS,
             simd: crate::simd::SimdLevel::Auto,
             shutter: None,
+            time: Sampling::default(),
         }
     }
 }
@@ -364,7 +368,10 @@ struct CameraSampler<'a, S: PrimitiveStore> {
     aa_strata: (u32, u32),
     /// Lens points per AA position (1 for a pinhole).
     n_lens: u32,
-    /// Camera samples per pixel (`n_aa · n_lens`), and the strata lens points are drawn from.
+    /// Times per AA position and lens point (1 where nothing moves).
+    n_time: u32,
+    /// Camera samples per pixel (`n_aa · n_lens · n_time`), and the strata lens points are
+    /// drawn from.
     n: u32,
     lens_strata: (u32, u32),
 }
@@ -373,22 +380,25 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
     fn new(scene: &'a TraceScene<S>, settings: &'a RenderSettings) -> Self {
         let n_aa = settings.aa.sampling.samples.max(1);
         let n_lens = if scene.camera.has_lens() { settings.lens.samples.max(1) } else { 1 };
-        let n = n_aa * n_lens;
-        Self { scene, settings, n_aa, aa_strata: strata(n_aa), n_lens, n, lens_strata: strata(n) }
+        let n_time = if scene.motion.is_some() { settings.time.samples.max(1) } else { 1 };
+        // The scene's camera-samples rule keeps the product within 32 bits.
+        let n = n_aa.saturating_mul(n_lens).saturating_mul(n_time);
+        Self { scene, settings, n_aa, aa_strata: strata(n_aa), n_lens, n_time, n, lens_strata: strata(n) }
     }
 
     /// Camera sample `sample` of pixel `(x, y)`: its ray (counted as a camera or lens ray), its
-    /// key and its time in the shutter interval. Sample `i · n_lens + j` is AA position `i`
-    /// through lens point `j`. Where something moves, times are stratified over the pixel's
-    /// samples (one stratum of `1/n` each, in an order decorrelated from positions and lens
-    /// points); elsewhere every time is 0 and none is drawn.
+    /// key and its time in the shutter interval. Samples `i · n_lens · n_time ..` are AA
+    /// position `i` (through `n_lens` lens points, each at `n_time` times). Where something
+    /// moves, times are stratified over the pixel's samples (one stratum of `1/n` each, in an
+    /// order decorrelated from positions and lens points, placed by the time pattern);
+    /// elsewhere every time is 0 and none is drawn.
     #[inline]
     fn sample(&self, x: u32, y: u32, sample: u32, rays: &mut RayCounts) -> (Ray, CameraSample, f32) {
         let (scene, settings) = (self.scene, self.settings);
         let pixel = y * settings.width + x;
         let patterns =
             SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample: PIXEL_PATTERNS };
-        let i = sample / self.n_lens;
+        let i = sample / (self.n_lens * self.n_time);
         let u = uniform2(&patterns, DIM_PIXEL, i);
         let offset = pixel_offset(&settings.aa, self.n_aa, self.aa_strata, i, u);
         let (px, py) = (x as f32 + offset.x, y as f32 + offset.y);
@@ -397,7 +407,7 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
                 rays.timed += 1;
                 let times = Dimension::new(&patterns, DIM_TIME);
                 let k = permute(sample, self.n, times.hash(u32::MAX));
-                stratum_time(k, self.n, times.uniform2(k).x)
+                stratum_time(settings.time.pattern, k, self.n, times.uniform2(k).x)
             }
             None => 0.0,
         };
@@ -419,10 +429,16 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
     }
 }
 
-/// The time of stratum `k` of `n` at offset `u ∈ [0, 1)` within it: in `[k/n, (k+1)/n)` (a
-/// sum that rounds up to the stratum's end is pulled back below it).
+/// Time sample `k` of `n` placed by `pattern` with `u ∈ [0, 1)`: jittered, at offset `u` in
+/// stratum `[k/n, (k+1)/n)` (a sum that rounds up to the stratum's end is pulled back below
+/// it); grid, at the stratum's middle; random, `u` anywhere in `[0, 1)`.
 #[inline]
-fn stratum_time(k: u32, n: u32, u: f32) -> f32 {
+fn stratum_time(pattern: Pattern, k: u32, n: u32, u: f32) -> f32 {
+    let u = match pattern {
+        Pattern::Jittered => u,
+        Pattern::Grid => 0.5,
+        Pattern::Random => return u,
+    };
     let t = (k as f32 + u) / n as f32;
     t.min(((k + 1) as f32 / n as f32).next_down())
 }
@@ -666,9 +682,10 @@ fn render_adaptive<S: PrimitiveStore>(
     (image, counts)
 }
 
-/// The colour at a lattice point (image position `p / res`): one camera sample, with one lens
-/// point when the camera has an aperture, and effect budgets scaled to the area the point
-/// stands for. A pure function of the point's coordinates.
+/// The colour at a lattice point (image position `p / res`): one camera sample (with one lens
+/// point when the camera has an aperture), or where something moves, its share of the time
+/// samples, each at its own time and lens point; effect budgets are scaled to the area the
+/// point stands for. A pure function of the point's coordinates.
 fn lattice_sample<S: PrimitiveStore>(
     scene: &TraceScene<S>,
     settings: &RenderSettings,
@@ -680,29 +697,51 @@ fn lattice_sample<S: PrimitiveStore>(
     let key =
         SampleKey { seed: settings.seed, frame: settings.frame, pixel: id as u32, sample: (id >> 32) as u32 };
     let (px, py) = (p.x as f32 / res as f32, p.y as f32 / res as f32);
-    // A lattice point is one camera sample: one random time where something moves.
-    let time = match scene.motion {
-        Some(_) => {
-            rays.timed += 1;
-            crate::sample::rng::uniform(&key, DIM_TIME, PIXEL_PATTERNS)
-        }
-        None => 0.0,
-    };
-    let cam = scene.camera_at(time);
-    let ray = if cam.has_lens() {
-        rays.lens += 1;
-        let lens = disk_point(Pattern::Random, 1, 0, uniform2(&key, DIM_LENS, PIXEL_PATTERNS));
-        cam.lens_ray(px, py, settings.width, settings.height, lens)
-    } else {
-        rays.camera += 1;
-        cam.ray(px, py, settings.width, settings.height)
-    };
     // A point first needed at subdivision level l stands for a square of 4^-l of a pixel: it
-    // takes that share of each effect's per-pixel budget (corners, level 0, take all of it).
+    // takes that share of each effect's per-pixel budget (corners, level 0, take all of it),
+    // time samples included (at least one).
     let level =
         res.trailing_zeros() - p.x.trailing_zeros().min(p.y.trailing_zeros()).min(res.trailing_zeros());
-    let camera = CameraSample { spp: 1 << (2 * level), ..CameraSample::single(key) };
-    trace_camera_ray(scene, settings, &ray, camera, time, rays)
+    let spp = 1u32 << (2 * level);
+    let times = match scene.motion {
+        Some(_) => settings.time.samples.max(1).div_ceil(spp),
+        None => 1,
+    };
+    let order = crate::sample::rng::hash(&key, DIM_TIME, PIXEL_PATTERNS - 1);
+    let mut mean = SampleMean::default();
+    for j in 0..times {
+        // Sample 0 keeps the point's own key and draws; the others get keys of their own.
+        let index = PIXEL_PATTERNS - 2 * j;
+        let time = match scene.motion {
+            Some(_) => {
+                rays.timed += 1;
+                let k = permute(j, times, order);
+                let u = crate::sample::rng::uniform(&key, DIM_TIME, index);
+                stratum_time(settings.time.pattern, k, times, u)
+            }
+            None => 0.0,
+        };
+        let cam = scene.camera_at(time);
+        let ray = if cam.has_lens() {
+            rays.lens += 1;
+            let lens = disk_point(Pattern::Random, 1, 0, uniform2(&key, DIM_LENS, index));
+            cam.lens_ray(px, py, settings.width, settings.height, lens)
+        } else {
+            rays.camera += 1;
+            cam.ray(px, py, settings.width, settings.height)
+        };
+        let own = match j {
+            0 => key,
+            _ => SampleKey { sample: key.sample ^ j.wrapping_mul(0x9E37_79B9), ..key },
+        };
+        let camera = CameraSample { key: own, pixel: key, slot: j, spp: spp.saturating_mul(times) };
+        mean.add(trace_camera_ray(scene, settings, &ray, camera, time, rays));
+    }
+    // A point none of whose samples is finite is non-finite, so refinement drops and counts it.
+    match mean.dropped() == times {
+        true => Vec3::NAN,
+        false => mean.mean(),
+    }
 }
 
 /// Figures of the mesh level of a store's two-level grid.
@@ -720,4 +759,25 @@ fn mesh_grid_stats<L: crate::store::TriangleLayout>(meshes: &[Arc<MeshEntry<L>>]
         m.store_bytes_per_triangle = (m.store_bytes + m.data_bytes) as f64 / m.triangles as f64;
     }
     m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn times_keep_to_their_strata_by_pattern() {
+        let n = 8;
+        for k in 0..n {
+            let (lo, hi) = (k as f32 / n as f32, (k + 1) as f32 / n as f32);
+            for u in [0.0, 0.3, 1.0f32.next_down()] {
+                let t = stratum_time(Pattern::Jittered, k, n, u);
+                assert!((lo..hi).contains(&t), "jittered time {t} of stratum {k} at u = {u}");
+            }
+            assert_eq!(stratum_time(Pattern::Grid, k, n, 0.9), (k as f32 + 0.5) / n as f32);
+            assert_eq!(stratum_time(Pattern::Random, k, n, 0.9), 0.9, "random ignores the stratum");
+        }
+        // The last stratum's end is pulled back inside it.
+        assert!(stratum_time(Pattern::Jittered, 2, 3, 1.0f32.next_down()) < 1.0);
+    }
 }

@@ -133,6 +133,7 @@ impl<S: PrimitiveStore + 'static> SceneWorld<S> {
             max_secondary_rays: s.max_secondary_rays,
             simd: crate::simd::SimdLevel::Auto,
             shutter: s.shutter,
+            time: s.time,
         }
     }
 

@@ -122,6 +122,8 @@ pub struct SceneSettings {
     pub max_secondary_rays: u32,
     /// When the shutter is open (motion blur); `None`: an instant.
     pub shutter: Option<crate::camera::Shutter>,
+    /// Time samples per camera sample, where something moves while the shutter is open.
+    pub time: Sampling,
 }
 
 impl Default for SceneSettings {
@@ -142,6 +144,7 @@ impl Default for SceneSettings {
             glossy: RenderSettings::default().glossy,
             max_secondary_rays: RenderSettings::default().max_secondary_rays,
             shutter: None,
+            time: Sampling::default(),
         }
     }
 }

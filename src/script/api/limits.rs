@@ -10,7 +10,8 @@ use super::scene::camera_desc;
 use crate::scene::error::number as num;
 use crate::scene::format::{AaDesc, AdaptiveDesc, LightDesc, SamplingDesc, SceneDesc, SettingsDesc};
 use crate::scene::limits::{
-    extent_excess, extent_rule, lens_violation, radiance_violation, Extent, Placement,
+    camera_samples_violation, extent_excess, extent_rule, lens_violation, radiance_violation, Extent,
+    Placement,
 };
 use crate::scene::locate::Segment;
 use crate::script::state::{EntityKind, EntityState, ScriptState};
@@ -50,7 +51,7 @@ pub fn extent(entry: &EntityState, what: &str) -> ScriptResult<()> {
     }
 }
 
-/// The radiance rule on the scene as the script has it; `what` names the write, e.g.
+/// The camera-samples and radiance rules on the scene as the script has it; `what` names the write, e.g.
 /// `settings.samples` or ``entity `key`: intensity``.
 pub fn radiance(state: &ScriptState, what: &str) -> ScriptResult<()> {
     let lights: Vec<(&str, LightDesc)> = state
@@ -86,6 +87,9 @@ pub fn radiance(state: &ScriptState, what: &str) -> ScriptResult<()> {
         objects: Vec::new(),
         meshes: Default::default(),
     };
+    if let Some(v) = camera_samples_violation(&scene) {
+        return error(format!("{what}: {}", script_names(&v.rule)));
+    }
     let Some(v) = radiance_violation(&scene) else { return Ok(()) };
     let rule = script_names(&v.rule);
     let field = v.path.to_string();
@@ -105,5 +109,6 @@ pub fn radiance(state: &ScriptState, what: &str) -> ScriptResult<()> {
 fn script_names(rule: &str) -> String {
     rule.replace("settings.aa.samples", "settings.samples")
         .replace("camera.lens.samples", "settings.lens_samples")
+        .replace("camera.time.samples", "settings.time_samples")
         .replace("settings.glossy.samples", "settings.glossy_samples")
 }

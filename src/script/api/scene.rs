@@ -30,6 +30,7 @@ pub const CAMERA_PROPERTIES: &[&str] = &["position", "look_at", "up", "fov", "ap
 pub const SETTINGS_PROPERTIES: &[&str] = &[
     "samples",
     "lens_samples",
+    "time_samples",
     "glossy_samples",
     "max_depth",
     "max_secondary_rays",
@@ -178,6 +179,7 @@ fn valid_camera_desc() -> CameraDesc {
         focus_on: None,
         lens: SamplingDesc::default(),
         shutter: None,
+        time: SamplingDesc::default(),
     }
 }
 
@@ -209,6 +211,7 @@ pub fn camera_desc(state: &ScriptState) -> CameraDesc {
         focus_on: None,
         lens: SamplingDesc { samples: state.settings.lens_samples, ..Default::default() },
         shutter: None,
+        time: SamplingDesc { samples: state.settings.time_samples, ..Default::default() },
     }
 }
 
@@ -217,6 +220,7 @@ fn script_field(field: &str) -> &str {
     match field {
         "fov_deg" => "fov",
         "lens.samples" => "lens_samples",
+        "time.samples" => "time_samples",
         other => other,
     }
 }
@@ -514,6 +518,7 @@ fn register_settings(engine: &mut Engine) {
     }
     count_property!("samples", samples, 1, MAX_SAMPLES as INT);
     count_property!("lens_samples", lens_samples, 1, MAX_SAMPLES as INT);
+    count_property!("time_samples", time_samples, 1, MAX_SAMPLES as INT);
     count_property!("glossy_samples", glossy_samples, 1, MAX_SAMPLES as INT);
     count_property!("max_depth", max_depth, 0, MAX_DEPTH as INT);
     count_property!("max_secondary_rays", max_secondary_rays, 1, MAX_SECONDARY_RAYS as INT);
