@@ -73,6 +73,8 @@ fn every_type_ron_and_the_schema_tables_name_every_field_the_loader_accepts() {
         ("settings", "SETTINGS", "zz: 0"),
         ("settings.aa", "SETTINGS", "aa: (zz: 0)"),
         ("settings.adaptive", "SETTINGS", "adaptive: (zz: 0)"),
+        ("settings.noise", "SETTINGS", "noise: (zz: 0)"),
+        ("camera.time", "CAMERA", "time: (zz: 0)"),
         ("settings.tonemap", "SETTINGS", "tonemap: (zz: 0)"),
         ("material", "MATERIAL", "zz: 0"),
         ("transform", "TRANSFORM", "zz: 0"),

@@ -27,6 +27,7 @@ mod invariants;
 mod memory;
 mod mesh;
 mod motion;
+mod noise;
 mod output;
 mod packets;
 mod properties;

@@ -90,9 +90,23 @@ pub struct FrameArgs {
         conflicts_with = "no_adaptive"
     )]
     adaptive: Option<(f32, u32)>,
-    /// Turn off adaptive supersampling set in the scene.
+    /// Turn off adaptive sampling set in the scene (corner subdivision or noise-driven).
     #[arg(long)]
     no_adaptive: bool,
+    /// Noise-driven adaptive sampling: each pixel takes batches of its AA set (× lens × time
+    /// samples) until the standard error of its mean on the display is at most E (0..1; 0.01
+    /// is about 2.5/255). Replaces `settings.adaptive`; other noise settings from the scene's
+    /// `settings.noise` or their defaults.
+    #[arg(long, value_name = "E", value_parser = parse_target_error, conflicts_with_all = ["adaptive", "no_adaptive"])]
+    target_error: Option<f32>,
+    /// Noise-driven adaptive sampling with a time limit: no round starts that would end after
+    /// SECONDS of tracing (the image is always complete).
+    #[arg(long, value_name = "SECONDS", value_parser = parse_time_limit, conflicts_with_all = ["adaptive", "no_adaptive"])]
+    time_limit: Option<f32>,
+    /// Noise-driven adaptive sampling: at least MIN and at most MAX camera samples per pixel
+    /// (each rounded up to whole batches of the AA set; 1 <= MIN <= MAX <= 65536).
+    #[arg(long, value_name = "MIN:MAX", value_parser = parse_noise_samples, conflicts_with_all = ["adaptive", "no_adaptive"])]
+    noise_samples: Option<(u32, u32)>,
     /// Lens radius (0 = pinhole).
     #[arg(long, value_name = "R", allow_negative_numbers = true, value_parser = parse_aperture)]
     aperture: Option<f32>,
@@ -200,6 +214,35 @@ pub fn parse_shutter(s: &str) -> Result<ShutterFlag, String> {
         ));
     };
     Shutter::new(open, close).map(|_| ShutterFlag(Some((open, close))))
+}
+
+fn parse_target_error(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(e) if (0.0..=1.0).contains(&e) => Ok(e),
+        _ => Err(format!(
+            "expected a target error in [0, 1] (display units; 0.01 is about 2.5/255), got `{s}`"
+        )),
+    }
+}
+
+fn parse_time_limit(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(t) if t.is_finite() && t > 0.0 => Ok(t),
+        _ => Err(format!("expected a time limit in seconds, finite and > 0, got `{s}`")),
+    }
+}
+
+fn parse_noise_samples(s: &str) -> Result<(u32, u32), String> {
+    let max = scene::validate::MAX_NOISE_SAMPLES;
+    let parsed = s
+        .split_once(':')
+        .and_then(|(a, b)| Some((a.trim().parse::<u32>().ok()?, b.trim().parse::<u32>().ok()?)));
+    match parsed {
+        Some((lo, hi)) if 1 <= lo && lo <= hi && hi <= max => Ok((lo, hi)),
+        _ => {
+            Err(format!("expected MIN:MAX camera samples per pixel with 1 <= MIN <= MAX <= {max}, got `{s}`"))
+        }
+    }
 }
 
 fn parse_aperture(s: &str) -> Result<f32, String> {
@@ -404,6 +447,9 @@ impl FrameArgs {
         if let Some((t, d)) = self.adaptive {
             flags.push(("settings.adaptive".into(), format!("--adaptive {t}:{d}")));
         }
+        if let Some((lo, hi)) = self.noise_samples {
+            flags.push(("settings.noise.max_samples".into(), format!("--noise-samples {lo}:{hi}")));
+        }
         let text = String::from_utf8_lossy(source);
         scene::limits::check_overrides(desc, &text, origin, &flags)?;
         Ok(())
@@ -567,8 +613,24 @@ fn apply_effects(desc: &mut SceneDesc, args: &FrameArgs) {
     }
     if let Some((threshold, max_depth)) = args.adaptive {
         desc.settings.adaptive = Some(AdaptiveDesc { threshold, max_depth });
+        desc.settings.noise = None;
     }
     if args.no_adaptive {
+        desc.settings.adaptive = None;
+        desc.settings.noise = None;
+    }
+    if args.target_error.is_some() || args.time_limit.is_some() || args.noise_samples.is_some() {
+        let mut noise = desc.settings.noise.unwrap_or_default();
+        if let Some(e) = args.target_error {
+            noise.target_error = e;
+        }
+        if let Some(t) = args.time_limit {
+            noise.time_limit = Some(t);
+        }
+        if let Some((lo, hi)) = args.noise_samples {
+            (noise.min_samples, noise.max_samples) = (lo, hi);
+        }
+        desc.settings.noise = Some(noise);
         desc.settings.adaptive = None;
     }
     if let Some(r) = args.aperture {

@@ -2,14 +2,17 @@
 //! counter-based randomness behind them. Every distribution effect maps these points onto its
 //! own area: the pixel footprint (anti-aliasing), an area light (soft shadows), a cone around
 //! the mirror or refracted direction (glossy and blurry surfaces) and the lens (depth of field).
-//! Adaptive supersampling refines pixels by recursive corner subdivision.
+//! Adaptive supersampling refines pixels by recursive corner subdivision, or takes batches of
+//! samples until a pixel's estimated noise is below a target ([`noise`]).
 
 pub mod adaptive;
+pub mod noise;
 pub mod pattern;
 pub mod rng;
 pub mod warp;
 
 pub use adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint};
+pub use noise::NoiseSettings;
 pub use pattern::{disk_point, sample_square, square_point, square_points, strata};
 pub use rng::{hash, permute, uniform, uniform2, SampleKey, SampleStream};
 

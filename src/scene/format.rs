@@ -166,6 +166,39 @@ impl Default for AdaptiveDesc {
     }
 }
 
+/// Noise-driven adaptive sampling: every pixel takes batches of camera samples (each batch the
+/// scene's `aa` set, with lens and time samples) in rounds until its estimated error on the
+/// display is below `target_error`. Not together with `adaptive`.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct NoiseDesc {
+    /// A pixel stops once the standard error of its mean, in display units (sRGB, 0..1; 0.01
+    /// is about 2.5/255), is at most this; finite, in [0, 1]. 0 samples to `max_samples`.
+    /// Default 0.01.
+    pub target_error: f32,
+    /// Camera samples every pixel takes first, 1..=65536 (rounded up to whole batches, at
+    /// least two). Default 16.
+    pub min_samples: u32,
+    /// Camera samples no pixel exceeds, `min_samples..=65536` (rounded up to whole batches).
+    /// Default 1024.
+    pub max_samples: u32,
+    /// Seconds of tracing after which no further round starts (the image is always
+    /// complete), finite and > 0. Default none.
+    pub time_limit: Option<f32>,
+}
+
+impl Default for NoiseDesc {
+    fn default() -> Self {
+        let s = crate::sample::NoiseSettings::default();
+        Self {
+            target_error: s.target_error,
+            min_samples: s.min_samples,
+            max_samples: s.max_samples,
+            time_limit: None,
+        }
+    }
+}
+
 /// Render settings stored with the scene.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -184,6 +217,9 @@ pub struct SettingsDesc {
     pub aa: AaDesc,
     /// Adaptive supersampling; replaces `aa` when given. Default none (off).
     pub adaptive: Option<AdaptiveDesc>,
+    /// Noise-driven adaptive sampling in batches of the `aa` set; not with `adaptive`.
+    /// Default none (off).
+    pub noise: Option<NoiseDesc>,
     /// Rays per glossy reflection or blurry refraction at the first bounce (deeper bounces
     /// use one). Default 8, `Jittered`; a `glossy: (...)` without `samples` also gets 8.
     #[serde(deserialize_with = "glossy_sampling")]
@@ -226,6 +262,7 @@ impl Default for SettingsDesc {
             seed: 0,
             aa: AaDesc::default(),
             adaptive: None,
+            noise: None,
             glossy: SamplingDesc { samples: DEFAULT_GLOSSY_SAMPLES, pattern: Pattern::Jittered },
             max_secondary_rays: crate::trace::integrator::DEFAULT_MAX_SECONDARY_RAYS,
             tonemap: ToneMapDesc::default(),

@@ -235,6 +235,15 @@ impl RadianceBudget {
                     ));
                     n *= f64::from(scene.camera.lens.samples);
                 }
+                if let Some(noise) = &s.noise {
+                    // Pixels sum whole batches; the last may pass max_samples by up to one batch.
+                    let batches = noise.max_samples.div_ceil(s.aa.samples).max(2);
+                    parts.push(format!(
+                        "{batches} batches (settings.noise.max_samples {})",
+                        noise.max_samples
+                    ));
+                    n *= f64::from(batches);
+                }
                 n
             }
         };

@@ -212,19 +212,18 @@ fn expected_type(path: &FieldPath) -> Option<&'static str> {
             _ => "a number",
         },
         (_, Segment::Field(name)) => match name.as_str() {
-            "camera" | "settings" | "transform" | "lens" | "aa" | "glossy" | "tonemap" => {
+            "camera" | "settings" | "transform" | "lens" | "time" | "aa" | "glossy" | "tonemap" => {
                 "a struct in parentheses `(name: value, ...)`"
             }
-            "adaptive" => "a struct in parentheses `(name: value, ...)`, or `None`",
+            "adaptive" | "noise" => "a struct in parentheses `(name: value, ...)`, or `None`",
             "shutter" => "a pair of numbers `(open, close)`, or `None`",
             "pattern" => "a pattern: `Grid`, `Random` or `Jittered`",
             "filter" => "a filter: `Box` or `Tent`",
             "operator" => "a tone operator: `Clamp`, `Reinhard` or `Aces`",
             "materials" | "lights" | "objects" => "a list in brackets `[...]`",
             "shape" => "a shape: `Sphere(...)`, `Plane(...)`, `Triangle(...)`, `Polygon(...)` or `Box(...)`",
-            "width" | "height" | "max_depth" | "samples" | "max_secondary_rays" => {
-                "a whole number (32-bit, unsigned)"
-            }
+            "width" | "height" | "max_depth" | "samples" | "max_secondary_rays" | "min_samples"
+            | "max_samples" => "a whole number (32-bit, unsigned)",
             "seed" => "a whole number (64-bit, unsigned)",
             "name" | "material" => "a string in double quotes",
             "vertices" => {

@@ -57,6 +57,12 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
             .adaptive
             .as_ref()
             .map(|a| AdaptiveSettings { threshold: a.threshold, max_depth: a.max_depth }),
+        noise: s.noise.as_ref().map(|n| crate::sample::NoiseSettings {
+            target_error: n.target_error,
+            min_samples: n.min_samples,
+            max_samples: n.max_samples,
+            time_limit: n.time_limit.map(f64::from),
+        }),
         lens: sampling(&c.lens),
         glossy: sampling(&s.glossy),
         max_secondary_rays: s.max_secondary_rays,

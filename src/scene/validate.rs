@@ -15,7 +15,7 @@ use glam::{DVec3, Vec3};
 
 use super::error::{number, shown};
 use super::format::{AdaptiveDesc, CameraDesc, LightDesc, MaterialDesc, ObjectDesc, SceneDesc};
-use super::format::{SamplingDesc, SettingsDesc, ShapeDesc, ToneMapDesc, TransformDesc};
+use super::format::{NoiseDesc, SamplingDesc, SettingsDesc, ShapeDesc, ToneMapDesc, TransformDesc};
 use super::locate::FieldPath;
 
 /// Largest accepted image width or height, in pixels.
@@ -216,6 +216,13 @@ fn settings(path: &FieldPath, settings: &SettingsDesc) -> Check {
     if let Some(adaptive_desc) = &settings.adaptive {
         adaptive(&path.clone().field("adaptive"), adaptive_desc)?;
     }
+    if let Some(noise_desc) = &settings.noise {
+        if settings.adaptive.is_some() {
+            let rule = "must not be given together with `adaptive`; choose one adaptive mode".into();
+            return fail(path, "noise", rule);
+        }
+        noise(&path.clone().field("noise"), noise_desc)?;
+    }
     sampling(&path.clone().field("glossy"), &settings.glossy)?;
     if !(1..=MAX_SECONDARY_RAYS).contains(&settings.max_secondary_rays) {
         let rule = format!("must be in 1..={MAX_SECONDARY_RAYS}, got {}", settings.max_secondary_rays);
@@ -251,6 +258,36 @@ fn adaptive(path: &FieldPath, adaptive: &AdaptiveDesc) -> Check {
     if !(1..=MAX_ADAPTIVE_DEPTH).contains(&adaptive.max_depth) {
         let rule = format!("must be in 1..={MAX_ADAPTIVE_DEPTH}, got {}", adaptive.max_depth);
         return fail(path, "max_depth", rule);
+    }
+    Ok(())
+}
+
+/// Largest `settings.noise.max_samples` (and `min_samples`).
+pub const MAX_NOISE_SAMPLES: u32 = 65536;
+
+fn noise(path: &FieldPath, noise: &NoiseDesc) -> Check {
+    finite(path, "target_error", noise.target_error)?;
+    if !(0.0..=1.0).contains(&noise.target_error) {
+        let rule =
+            format!("must be in [0, 1] (display units; 0.01 is about 2.5/255), got {}", noise.target_error);
+        return fail(path, "target_error", rule);
+    }
+    if !(1..=MAX_NOISE_SAMPLES).contains(&noise.min_samples) {
+        let rule = format!("must be in 1..={MAX_NOISE_SAMPLES}, got {}", noise.min_samples);
+        return fail(path, "min_samples", rule);
+    }
+    if !(noise.min_samples..=MAX_NOISE_SAMPLES).contains(&noise.max_samples) {
+        let rule = format!(
+            "must be in min_samples..={MAX_NOISE_SAMPLES} ({}..={MAX_NOISE_SAMPLES}), got {}",
+            noise.min_samples, noise.max_samples
+        );
+        return fail(path, "max_samples", rule);
+    }
+    if let Some(limit) = noise.time_limit {
+        finite(path, "time_limit", limit)?;
+        if limit <= 0.0 {
+            return fail(path, "time_limit", format!("must be > 0 seconds, got {limit}"));
+        }
     }
     Ok(())
 }

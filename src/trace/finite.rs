@@ -62,6 +62,12 @@ impl SampleMean {
         self.dropped
     }
 
+    /// Samples kept so far.
+    #[inline]
+    pub fn kept(&self) -> u32 {
+        self.kept
+    }
+
     /// The mean of the samples kept; black when none was.
     #[inline]
     pub fn mean(&self) -> Vec3 {

@@ -13,6 +13,7 @@ pub mod material;
 pub mod motion;
 pub mod packet;
 pub mod phong;
+mod progressive;
 pub mod render;
 pub mod scene;
 pub mod stats;
@@ -30,4 +31,7 @@ pub use render::{
     render, render_observed, render_with_aovs, tile_count, AntiAliasing, RenderSettings, Sampling,
 };
 pub use scene::{SceneTables, TraceScene};
-pub use stats::{AdaptiveCounts, BudgetStats, GridStats, MotionStats, RayCounts, RenderStats, StageTimes};
+pub use stats::{
+    AdaptiveCounts, BudgetStats, GridStats, MotionStats, NoiseStats, NoiseStop, RayCounts, RenderStats,
+    StageTimes,
+};

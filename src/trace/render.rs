@@ -28,7 +28,7 @@ use super::integrator::{
 use super::packet::{closest_hits, shadow_passes, LANES, MIN_LANES};
 use super::scene::TraceScene;
 use super::stats::{
-    AdaptiveCounts, BudgetStats, GridStats, MeshGridStats, MotionStats, RayCounts, RenderStats,
+    AdaptiveCounts, BudgetStats, GridStats, MeshGridStats, MotionStats, NoiseStats, RayCounts, RenderStats,
 };
 use crate::film::{AovSet, Aovs, Film};
 use crate::math::{Ray, RayPacket, Vec2, Vec3, SHADOW_EPSILON};
@@ -96,6 +96,9 @@ pub struct RenderSettings {
     pub aa: AntiAliasing,
     /// Adaptive supersampling by corner subdivision; replaces `aa` when set.
     pub adaptive: Option<AdaptiveSettings>,
+    /// Noise-driven adaptive sampling: batches of the fixed sample set (`aa` × lens × time)
+    /// until each pixel's estimated error is low; ignored when `adaptive` is set.
+    pub noise: Option<crate::sample::NoiseSettings>,
     /// Lens samples per camera sample (only when the camera has an aperture).
     pub lens: Sampling,
     /// Rays per glossy reflection or blurry refraction at the first bounce.
@@ -126,6 +129,7 @@ impl Default for RenderSettings {
             frame: 0,
             aa: AntiAliasing::default(),
             adaptive: None,
+            noise: None,
             lens: Sampling::default(),
             glossy: Sampling { samples: 8, pattern: Pattern::Jittered },
             max_secondary_rays: DEFAULT_MAX_SECONDARY_RAYS,
@@ -176,8 +180,16 @@ pub fn render_observed<S: PrimitiveStore>(
         let empty = (!wanted.is_empty()).then(|| Aovs::new(wanted, settings.width, settings.height));
         return (Film::new(settings.width, settings.height), empty, RenderStats::default());
     }
+    let mut noise_stats = NoiseStats::default();
     let (Assembled { film, mut rays, cost, dropped }, adaptive) = match settings.adaptive {
         Some(adaptive) => render_adaptive(scene, settings, &adaptive, wanted.cost, &tile_done),
+        None if settings.noise.is_some() => {
+            let noise = settings.noise.unwrap_or_default();
+            let (image, stats) =
+                super::progressive::render_noise(scene, settings, &noise, wanted.cost, &tile_done);
+            noise_stats = stats;
+            (image, AdaptiveCounts::default())
+        }
         // Packets need no per-pixel ray counts; the cost AOV, which does, traces single rays. So
         // do lens cameras: each lane's lens point differs, so a block's rays do not form a
         // frustum worth walking (measured: 20 % slower on effects_dof). Shadow packets remain.
@@ -225,10 +237,11 @@ pub fn render_observed<S: PrimitiveStore>(
         effects: scene.effects,
         aov_bytes: aovs.as_ref().map_or(0, |a| a.memory_bytes() as u64),
         dropped: dropped.finish(settings.width),
-        samples_per_pixel: match settings.adaptive {
-            Some(_) => 0,
-            None => CameraSampler::new(scene, settings).n,
+        samples_per_pixel: match (settings.adaptive, settings.noise) {
+            (None, None) => CameraSampler::new(scene, settings).n,
+            _ => 0,
         },
+        noise: noise_stats,
         ..Default::default()
     };
     stats.times.trace = started.elapsed().as_secs_f64();
@@ -255,15 +268,15 @@ pub fn render_observed<S: PrimitiveStore>(
 
 /// The output of one tile: colours, rays per pixel when the cost AOV is wanted, and the
 /// samples its pixels dropped.
-type TileResult = (Vec<Vec3>, Vec<u32>, RayCounts, DropTally);
+pub(super) type TileResult = (Vec<Vec3>, Vec<u32>, RayCounts, DropTally);
 
 /// A rendered image before statistics: the film, ray counts, the cost image (when wanted) and
 /// the dropped non-finite samples.
-struct Assembled {
-    film: Film,
-    rays: RayCounts,
-    cost: Option<Vec<u32>>,
-    dropped: DropTally,
+pub(super) struct Assembled {
+    pub(super) film: Film,
+    pub(super) rays: RayCounts,
+    pub(super) cost: Option<Vec<u32>>,
+    pub(super) dropped: DropTally,
 }
 
 /// What one tile's shader writes: per pixel in row-major order, its colour and the samples it
@@ -313,7 +326,7 @@ where
 
 /// The film, total counts, (if wanted) cost image and dropped samples from per-tile results
 /// in tile order.
-fn assemble(settings: &RenderSettings, tiles: &[TileResult], want_cost: bool) -> Assembled {
+pub(super) fn assemble(settings: &RenderSettings, tiles: &[TileResult], want_cost: bool) -> Assembled {
     let (w, h) = (settings.width, settings.height);
     let tiles_x = w.div_ceil(TILE);
     let mut film = Film::new(w, h);
@@ -338,7 +351,7 @@ fn assemble(settings: &RenderSettings, tiles: &[TileResult], want_cost: bool) ->
     Assembled { film, rays, cost, dropped }
 }
 
-fn saturate(n: u64) -> u32 {
+pub(super) fn saturate(n: u64) -> u32 {
     u32::try_from(n).unwrap_or(u32::MAX)
 }
 
@@ -360,9 +373,9 @@ fn fixed_pixel<S: PrimitiveStore>(
 
 /// The fixed camera samples of a frame: what every sample shares (counts and their strata),
 /// worked out once rather than once per sample.
-struct CameraSampler<'a, S: PrimitiveStore> {
-    scene: &'a TraceScene<S>,
-    settings: &'a RenderSettings,
+pub(super) struct CameraSampler<'a, S: PrimitiveStore> {
+    pub(super) scene: &'a TraceScene<S>,
+    pub(super) settings: &'a RenderSettings,
     /// AA positions per pixel, and their strata.
     n_aa: u32,
     aa_strata: (u32, u32),
@@ -372,12 +385,12 @@ struct CameraSampler<'a, S: PrimitiveStore> {
     n_time: u32,
     /// Camera samples per pixel (`n_aa · n_lens · n_time`), and the strata lens points are
     /// drawn from.
-    n: u32,
+    pub(super) n: u32,
     lens_strata: (u32, u32),
 }
 
 impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
-    fn new(scene: &'a TraceScene<S>, settings: &'a RenderSettings) -> Self {
+    pub(super) fn new(scene: &'a TraceScene<S>, settings: &'a RenderSettings) -> Self {
         let n_aa = settings.aa.sampling.samples.max(1);
         let n_lens = if scene.camera.has_lens() { settings.lens.samples.max(1) } else { 1 };
         let n_time = if scene.motion.is_some() { settings.time.samples.max(1) } else { 1 };
@@ -394,13 +407,29 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
     /// elsewhere every time is 0 and none is drawn.
     #[inline]
     fn sample(&self, x: u32, y: u32, sample: u32, rays: &mut RayCounts) -> (Ray, CameraSample, f32) {
+        self.sample_in(x, y, 0, sample, rays)
+    }
+
+    /// [`Self::sample`] of batch `batch` of the pixel: every batch is a whole stratified set of
+    /// `n` samples with patterns of its own (batch 0 is the fixed render's set), for
+    /// noise-driven sampling.
+    #[inline]
+    pub(super) fn sample_in(
+        &self,
+        x: u32,
+        y: u32,
+        batch: u32,
+        sample: u32,
+        rays: &mut RayCounts,
+    ) -> (Ray, CameraSample, f32) {
         let (scene, settings) = (self.scene, self.settings);
         let pixel = y * settings.width + x;
         let patterns =
-            SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample: PIXEL_PATTERNS };
+            SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample: PIXEL_PATTERNS - batch };
         let i = sample / (self.n_lens * self.n_time);
         let u = uniform2(&patterns, DIM_PIXEL, i);
-        let offset = pixel_offset(&settings.aa, self.n_aa, self.aa_strata, i, u);
+        let batched = settings.noise.is_some() && settings.adaptive.is_none();
+        let offset = pixel_offset(&settings.aa, self.n_aa, self.aa_strata, i, u, batched);
         let (px, py) = (x as f32 + offset.x, y as f32 + offset.y);
         let time = match scene.motion {
             Some(_) => {
@@ -424,7 +453,9 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
             rays.camera += 1;
             camera.ray(px, py, settings.width, settings.height)
         };
-        let key = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample };
+        // Batches stay far below `PIXEL_PATTERNS - batch` (the noise rules cap their samples).
+        let index = batch.wrapping_mul(self.n).wrapping_add(sample);
+        let key = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample: index };
         (ray, CameraSample { key, pixel: patterns, slot: sample, spp: self.n }, time)
     }
 }
@@ -568,9 +599,11 @@ fn point_light_shadows<S: PrimitiveStore>(
     hints
 }
 
-/// Where in the pixel (in pixel units from its top-left corner) sample `i` of `n` lands.
-fn pixel_offset(aa: &AntiAliasing, n: u32, strata: (u32, u32), i: u32, u: Vec2) -> Vec2 {
-    if n == 1 {
+/// Where in the pixel (in pixel units from its top-left corner) sample `i` of `n` lands. A
+/// single sample goes through the pixel's centre, unless `batched`: one of many batches of
+/// noise-driven sampling, which together must cover the footprint.
+fn pixel_offset(aa: &AntiAliasing, n: u32, strata: (u32, u32), i: u32, u: Vec2, batched: bool) -> Vec2 {
+    if n == 1 && !batched {
         return Vec2::splat(0.5);
     }
     let p = square_point_in(aa.sampling.pattern, strata, i, u);
@@ -580,7 +613,7 @@ fn pixel_offset(aa: &AntiAliasing, n: u32, strata: (u32, u32), i: u32, u: Vec2) 
     }
 }
 
-fn trace_camera_ray<S: PrimitiveStore>(
+pub(super) fn trace_camera_ray<S: PrimitiveStore>(
     scene: &TraceScene<S>,
     settings: &RenderSettings,
     ray: &Ray,

@@ -102,6 +102,50 @@ pub struct MotionStats {
     pub timed_samples: u64,
 }
 
+/// Why noise-driven sampling stopped.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NoiseStop {
+    /// It was off.
+    #[default]
+    Off,
+    /// Every pixel reached the target error.
+    Target,
+    /// Every pixel still above the target reached `max_samples`.
+    MaxSamples,
+    /// The next round would not have fitted in the time limit.
+    TimeLimit,
+}
+
+/// What noise-driven adaptive sampling did in a frame (all zero when it was off).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct NoiseStats {
+    /// Rounds over the image (round 0 gives every pixel `min_samples`).
+    pub rounds: u32,
+    /// Camera samples per batch (the fixed set: AA × lens × time).
+    pub batch: u32,
+    /// Camera samples per pixel: mean, 99th percentile, smallest and largest.
+    pub samples_mean: f64,
+    /// 99th percentile of camera samples per pixel.
+    pub samples_p99: u32,
+    /// Fewest camera samples a pixel took.
+    pub samples_min: u32,
+    /// Most camera samples a pixel took.
+    pub samples_max: u32,
+    /// The estimated RMSE of the image in linear RGB: the root of the mean, over pixels and
+    /// channels, of each pixel's estimated variance of its mean (what an RMSE against a
+    /// noise-free reference measures, bias aside).
+    pub estimated_rmse: f64,
+    /// Mean over pixels of the estimated display error the target is compared with.
+    pub mean_display_error: f64,
+    /// Pixels whose estimated display error is above the target at the end.
+    pub pixels_above_target: u64,
+    /// Why the rounds stopped.
+    pub stopped_by: NoiseStop,
+    /// Seconds the rounds took (tracing and the decisions between rounds).
+    pub seconds: f64,
+}
+
 /// Per-worker figures of the secondary-ray budget, summed over camera samples.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct BudgetTally {
@@ -395,6 +439,8 @@ pub struct RenderStats {
     pub simd: crate::simd::SimdLevel,
     /// Motion blur's figures.
     pub motion: MotionStats,
+    /// Noise-driven adaptive sampling's figures.
+    pub noise: NoiseStats,
 }
 
 impl Serialize for RenderStats {
@@ -416,8 +462,9 @@ impl Serialize for RenderStats {
             ray_budget,
             simd,
             motion,
+            noise,
         } = self;
-        let mut s = serializer.serialize_struct("RenderStats", 16)?;
+        let mut s = serializer.serialize_struct("RenderStats", 17)?;
         s.serialize_field("width", width)?;
         s.serialize_field("height", height)?;
         s.serialize_field("threads", threads)?;
@@ -434,6 +481,7 @@ impl Serialize for RenderStats {
         s.serialize_field("ray_budget", ray_budget)?;
         s.serialize_field("simd", simd.name())?;
         s.serialize_field("motion", motion)?;
+        s.serialize_field("noise", noise)?;
         s.end()
     }
 }
@@ -462,6 +510,7 @@ impl RenderStats {
              rays       {} total: camera {}, lens {}, shadow {}, area shadow {}, reflection {}, glossy {}, refraction {}, blurry {}\n\
              adaptive   {} points traced, {} reused, {} subdivisions\n\
              motion     {} moving objects, camera {}, {} camera samples timed\n\
+             noise      {} rounds of {}-sample batches, samples per pixel mean {:.1}, p99 {}, min {}, max {}; estimated RMSE {:.3e}, mean display error {:.2e}, {} pixels above target, stopped by {:?}\n\
              {}\n\
              speed      {:.2} Mrays/s\n\
              grid       {}x{}x{} cells, {} objects, {} references, {} B grid, {} B store\n\
@@ -490,6 +539,16 @@ impl RenderStats {
             self.motion.moving_objects,
             if self.motion.camera_moves { "moves" } else { "still" },
             self.motion.timed_samples,
+            self.noise.rounds,
+            self.noise.batch,
+            self.noise.samples_mean,
+            self.noise.samples_p99,
+            self.noise.samples_min,
+            self.noise.samples_max,
+            self.noise.estimated_rmse,
+            self.noise.mean_display_error,
+            self.noise.pixels_above_target,
+            self.noise.stopped_by,
             self.dropped.summary_line(),
             self.mrays_per_s(),
             self.grid.dims[0],

@@ -128,6 +128,7 @@ impl<S: PrimitiveStore + 'static> SceneWorld<S> {
             frame: s.frame,
             aa: s.aa,
             adaptive: s.adaptive,
+            noise: s.noise,
             lens: s.lens,
             glossy: s.glossy,
             max_secondary_rays: s.max_secondary_rays,

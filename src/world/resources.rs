@@ -114,6 +114,8 @@ pub struct SceneSettings {
     pub aa: AntiAliasing,
     /// Adaptive supersampling (replaces `aa` when set).
     pub adaptive: Option<AdaptiveSettings>,
+    /// Noise-driven adaptive sampling (batches of the `aa` set until the noise is low).
+    pub noise: Option<crate::sample::NoiseSettings>,
     /// Lens samples per camera sample.
     pub lens: Sampling,
     /// Rays per glossy reflection or blurry refraction at the first bounce.
@@ -140,6 +142,7 @@ impl Default for SceneSettings {
             lambda: DEFAULT_LAMBDA,
             aa: AntiAliasing::default(),
             adaptive: None,
+            noise: None,
             lens: Sampling::default(),
             glossy: RenderSettings::default().glossy,
             max_secondary_rays: RenderSettings::default().max_secondary_rays,
