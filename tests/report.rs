@@ -104,7 +104,7 @@ fn the_default_sweep_of_a_scene_without_area_lights_has_no_area_light_axis() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = report(tmp.path(), false, &["--width", "16", "--height", "12"]);
     let axes: std::collections::BTreeSet<String> = rows(&dir).into_iter().map(|r| r.0).collect();
-    assert_eq!(axes.into_iter().collect::<Vec<_>>(), ["aa", "adaptive"]);
+    assert_eq!(axes.into_iter().collect::<Vec<_>>(), ["aa", "adaptive", "noise"]);
     let tmp = tempfile::tempdir().unwrap();
     let dir = report(tmp.path(), true, &["--width", "16", "--height", "12"]);
     assert!(rows(&dir).iter().any(|r| r.0 == "area_light"), "with an area light, its axis is swept");
@@ -168,9 +168,9 @@ fn a_scripted_report_sweeps_the_shutter_samples_and_prices_motion_blur() {
         axes
     };
     run(&["-o", "posed", "--height", "12", "--script", "move.rhai"]);
-    assert_eq!(axes("posed"), ["aa", "adaptive", "time"]);
+    assert_eq!(axes("posed"), ["aa", "adaptive", "noise", "time"]);
     run(&["-o", "still", "--height", "12"]);
-    assert_eq!(axes("still"), ["aa", "adaptive"]);
+    assert_eq!(axes("still"), ["aa", "adaptive", "noise"]);
     let out = penumbra(dir, &["report", "scene.ron", "--frame", "3"]);
     assert_eq!(out.status.code(), Some(2), "--frame needs --script");
 }
@@ -191,7 +191,7 @@ fn a_reference_read_from_a_file_equal_to_a_variant_gives_zero_error() {
     let out = report(dir, false, &["--sweep", "sweep.ron", "--reference", "ref.exr"]);
     let text = std::fs::read_to_string(out.join("results.csv")).unwrap();
     let row = text.lines().find(|l| l.contains("aa 16")).unwrap();
-    assert!(row.contains(",0.000000e0,inf,1.000000,"), "{row}");
+    assert!(row.contains(",0.000000e0,,inf,1.000000,"), "{row}");
     let json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("results.json")).unwrap()).unwrap();
     assert_eq!(json["points"][1]["psnr"], "inf");

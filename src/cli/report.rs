@@ -180,7 +180,10 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
     bar.finish_and_clear();
 
     write_atomically(&args.output.join("results.csv"), csv(&report).as_bytes())?;
-    let json = serde_json::to_vec_pretty(&report).context("cannot encode results.json")?;
+    let savings = report.savings();
+    let mut json = serde_json::to_value(&report).context("cannot encode results.json")?;
+    json["savings"] = serde_json::to_value(&savings).context("cannot encode results.json")?;
+    let json = serde_json::to_vec_pretty(&json).context("cannot encode results.json")?;
     write_atomically(&args.output.join("results.json"), &json)?;
     plot::error_vs_time(&report, &args.output)?;
     plot::rays_vs_error(&report, &args.output)?;
@@ -197,6 +200,21 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
             front.join(", "),
             index.display()
         ))?;
+        for s in &savings {
+            let at = |f: &Option<penumbra::report::FixedAt>, what: &str| match f {
+                Some(f) => format!("{:.2}x the {what} (aa {})", f.ratio, f.pattern),
+                None => format!("no fixed {what} to compare (RMSE outside the aa curves)"),
+            };
+            say(&format!(
+                "equal error: {} (RMSE {:.3e}, {} rays, {:.3} s): best fixed needs {}, {}",
+                s.label,
+                s.rmse,
+                s.rays,
+                s.seconds,
+                at(&s.fixed_rays, "rays"),
+                at(&s.fixed_seconds, "time")
+            ))?;
+        }
     }
     Ok(())
 }

@@ -44,6 +44,7 @@ pub fn render_index(report: &Report) -> String {
     summary(&mut page, report);
     plots(&mut page);
     table(&mut page, report);
+    savings_table(&mut page, report);
     gallery(&mut page, report);
     let _ = write!(
         page,
@@ -218,6 +219,47 @@ fn table(page: &mut String, r: &Report) {
          variant is both faster and more accurate. Times are medians over interleaved rounds (every \
          configuration once per round); rows with equal settings share one render. Hover a time for \
          every round's, a ray count for its kinds.</p>\n</section>\n",
+    );
+}
+
+/// The equal-error table: each adaptive point against the best fixed pattern at its RMSE.
+fn savings_table(page: &mut String, r: &Report) {
+    let savings = r.savings();
+    if savings.is_empty() {
+        return;
+    }
+    page.push_str(
+        "<section id=\"savings\">\n<h2>Equal-error savings</h2>\n<div class=\"scroll\"><table>\n<thead><tr>\
+         <th>Variant</th><th class=\"num\">RMSE</th><th class=\"num\">Rays</th><th class=\"num\">Median time (s)</th>\
+         <th>Fixed, fewest rays</th><th class=\"num\">Its rays</th><th class=\"num\">× rays</th>\
+         <th>Fixed, least time</th><th class=\"num\">Its time (s)</th><th class=\"num\">× time</th>\
+         </tr></thead>\n<tbody>\n",
+    );
+    let cells = |f: &Option<crate::report::FixedAt>, value: &dyn Fn(f64) -> String| match f {
+        Some(f) => format!(
+            "<td>aa {}</td><td class=\"num\">{}</td><td class=\"num\">{:.2}</td>",
+            escape(&f.pattern),
+            value(f.value),
+            f.ratio
+        ),
+        None => "<td colspan=\"3\">outside every fixed curve</td>".to_owned(),
+    };
+    for s in &savings {
+        let _ = writeln!(
+            page,
+            "<tr><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>{}{}</tr>",
+            escape(&s.label),
+            format_number(s.rmse),
+            grouped(s.rays),
+            seconds(s.seconds),
+            cells(&s.fixed_rays, &|v| grouped(v.round() as u64)),
+            cells(&s.fixed_seconds, &seconds),
+        );
+    }
+    page.push_str(
+        "</tbody>\n</table></div>\n<p class=\"note\">What the best fixed AA pattern needs for each adaptive \
+         variant's RMSE, read log-log between the two AA points around it; × is that over the variant's own \
+         (above 1: the variant saves).</p>\n</section>\n",
     );
 }
 

@@ -567,6 +567,7 @@ pub(crate) mod tests {
             config: 0,
             rays: RayCounts { camera: rays / 2, shadow: rays - rays / 2, ..RayCounts::default() },
             rmse,
+            estimated_rmse: None,
             psnr,
             ssim: 1.0 - rmse,
             image: format!("{stem}.png"),

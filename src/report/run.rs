@@ -206,6 +206,7 @@ fn cost_axes(desc: &SceneDesc, effects: &Effects, sweep: &SweepDesc) -> Vec<&'st
         let used = match axis {
             "aa" => desc.settings.adaptive.is_none() && desc.settings.aa.samples > 1,
             "adaptive" => desc.settings.adaptive.is_some(),
+            "noise" => desc.settings.noise.is_some(),
             "area_light" => effects.area_lights,
             "glossy" => effects.glossy || effects.blurry,
             "lens" => effects.lens && desc.camera.lens.samples > 1,
@@ -336,6 +337,7 @@ pub fn run(
             config: c,
             rays: m.stats.rays,
             rmse: m.rmse,
+            estimated_rmse: (m.stats.noise.rounds > 0).then_some(m.stats.noise.estimated_rmse),
             psnr: m.psnr,
             ssim: m.ssim,
             image: m.image.clone(),
@@ -401,7 +403,7 @@ fn measure(
 pub fn csv(report: &Report) -> String {
     let kinds = crate::trace::RayCounts::default().kinds().map(|(k, _)| format!("rays_{k}"));
     let mut out = format!(
-        "axis,label,params,seconds,runs,config,rays_total,rmse,psnr,ssim,pareto,image,heatmap,{}\n",
+        "axis,label,params,seconds,runs,config,rays_total,rmse,estimated_rmse,psnr,ssim,pareto,image,heatmap,{}\n",
         kinds.join(",")
     );
     let front = report.pareto_front();
@@ -409,7 +411,7 @@ pub fn csv(report: &Report) -> String {
         let params: Vec<String> = p.params.iter().map(|(k, v)| format!("{k}={v}")).collect();
         let psnr = if p.psnr.is_infinite() { "inf".to_owned() } else { format!("{:.4}", p.psnr) };
         out += &format!(
-            "{},{},{},{:.6},{},{},{},{:.6e},{psnr},{:.6},{},{},{},{}\n",
+            "{},{},{},{:.6},{},{},{},{:.6e},{},{psnr},{:.6},{},{},{},{}\n",
             p.axis,
             p.label,
             params.join(" "),
@@ -418,6 +420,7 @@ pub fn csv(report: &Report) -> String {
             p.config,
             p.rays.total(),
             p.rmse,
+            p.estimated_rmse.map_or(String::new(), |e| format!("{e:.6e}")),
             p.ssim,
             front.contains(&i),
             p.image,

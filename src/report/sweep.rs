@@ -28,8 +28,8 @@ use serde::Deserialize;
 use crate::sample::adaptive::AdaptiveSettings;
 use crate::sample::Pattern;
 use crate::scene::locate::{path_at, position_of, FieldPath};
-use crate::scene::validate::{MAX_ADAPTIVE_DEPTH, MAX_SAMPLES};
-use crate::scene::{AdaptiveDesc, LightDesc, SceneDesc};
+use crate::scene::validate::{MAX_ADAPTIVE_DEPTH, MAX_NOISE_SAMPLES, MAX_SAMPLES};
+use crate::scene::{AdaptiveDesc, LightDesc, NoiseDesc, SceneDesc};
 use crate::trace::Effects;
 
 /// Why a sweep file could not be loaded; displays like a scene error,
@@ -100,6 +100,33 @@ pub enum Axis {
         /// Sample counts.
         samples: Vec<u32>,
     },
+    /// Noise-driven adaptive sampling: every target error, in batches of `aa` AA samples (with
+    /// the scene's lens, time and effect samples).
+    Noise {
+        /// Target errors (display units, 0..1).
+        targets: Vec<f32>,
+        /// AA samples per batch (default 1).
+        #[serde(default = "one")]
+        aa: u32,
+        /// Camera samples every pixel takes first (default 16).
+        #[serde(default = "sixteen")]
+        min_samples: u32,
+        /// Camera samples no pixel exceeds (default 4096).
+        #[serde(default = "many")]
+        max_samples: u32,
+    },
+}
+
+fn one() -> u32 {
+    1
+}
+
+fn sixteen() -> u32 {
+    16
+}
+
+fn many() -> u32 {
+    4096
 }
 
 fn jittered() -> Vec<Pattern> {
@@ -120,6 +147,7 @@ impl Axis {
             Axis::Glossy { .. } => "glossy",
             Axis::Lens { .. } => "lens",
             Axis::Time { .. } => "time",
+            Axis::Noise { .. } => "noise",
         }
     }
 
@@ -139,6 +167,9 @@ impl Axis {
             Axis::Glossy { samples } => counts(samples, Setting::Glossy),
             Axis::Lens { samples } => counts(samples, Setting::Lens),
             Axis::Time { samples } => counts(samples, Setting::Time),
+            Axis::Noise { targets, aa, min_samples, max_samples } => {
+                targets.iter().map(|&t| Setting::Noise(t, *aa, *min_samples, *max_samples)).collect()
+            }
         };
         settings.into_iter().map(|setting| Variant { axis: self.name(), setting }).collect()
     }
@@ -168,6 +199,31 @@ impl Axis {
             | Axis::Glossy { samples }
             | Axis::Lens { samples }
             | Axis::Time { samples } => counts(samples),
+            Axis::Noise { targets, aa, min_samples, max_samples } => {
+                if targets.is_empty() {
+                    return Err(("targets".into(), "lists no values; give at least one target error".into()));
+                }
+                if let Some(i) = targets.iter().position(|t| !(0.0..=1.0).contains(t)) {
+                    return Err((
+                        format!("targets[{i}]"),
+                        format!("target error must be in [0, 1], got {}", targets[i]),
+                    ));
+                }
+                if !(1..=MAX_SAMPLES).contains(aa) {
+                    return Err(("aa".into(), format!("must be in 1..={MAX_SAMPLES}, got {aa}")));
+                }
+                if !(1..=MAX_NOISE_SAMPLES).contains(min_samples) {
+                    return Err((
+                        "min_samples".into(),
+                        format!("must be in 1..={MAX_NOISE_SAMPLES}, got {min_samples}"),
+                    ));
+                }
+                if !(*min_samples..=MAX_NOISE_SAMPLES).contains(max_samples) {
+                    let rule = format!("must be in min_samples..={MAX_NOISE_SAMPLES}, got {max_samples}");
+                    return Err(("max_samples".into(), rule));
+                }
+                Ok(())
+            }
             Axis::Adaptive { thresholds, depths } => {
                 if thresholds.is_empty() {
                     return Err(("thresholds".into(), "lists no values; give at least one threshold".into()));
@@ -208,6 +264,8 @@ pub enum Setting {
     Lens(u32),
     /// Time samples.
     Time(u32),
+    /// Noise-driven sampling: target error, AA samples per batch, minimum and maximum samples.
+    Noise(f32, u32, u32, u32),
 }
 
 /// A point of the sweep: its axis and setting.
@@ -238,6 +296,7 @@ impl Variant {
             Setting::Glossy(n) => format!("glossy {n}"),
             Setting::Lens(n) => format!("lens {n}"),
             Setting::Time(n) => format!("time {n}"),
+            Setting::Noise(t, ..) => format!("noise {t}"),
         }
     }
 
@@ -252,6 +311,12 @@ impl Variant {
             Setting::AreaLight(n) | Setting::Glossy(n) | Setting::Lens(n) | Setting::Time(n) => {
                 vec![pair("samples", n.to_string())]
             }
+            Setting::Noise(t, aa, lo, hi) => vec![
+                pair("target_error", t.to_string()),
+                pair("aa", aa.to_string()),
+                pair("min_samples", lo.to_string()),
+                pair("max_samples", hi.to_string()),
+            ],
         }
     }
 
@@ -263,14 +328,22 @@ impl Variant {
                 d.settings.aa.samples = n;
                 d.settings.aa.pattern = p;
                 d.settings.adaptive = None;
+                d.settings.noise = None;
             }
             Setting::Adaptive(threshold, max_depth) => {
-                d.settings.adaptive = Some(AdaptiveDesc { threshold, max_depth })
+                d.settings.adaptive = Some(AdaptiveDesc { threshold, max_depth });
+                d.settings.noise = None;
             }
             Setting::AreaLight(n) => set_area_samples(&mut d, n),
             Setting::Glossy(n) => d.settings.glossy.samples = n,
             Setting::Lens(n) => d.camera.lens.samples = n,
             Setting::Time(n) => d.camera.time.samples = n,
+            Setting::Noise(target_error, aa, min_samples, max_samples) => {
+                d.settings.adaptive = None;
+                d.settings.aa.samples = aa;
+                d.settings.noise =
+                    Some(NoiseDesc { target_error, min_samples, max_samples, time_limit: None });
+            }
         }
         d
     }
@@ -313,6 +386,7 @@ impl ReferenceSettings {
         d.settings.aa.samples = self.aa;
         d.settings.aa.pattern = Pattern::Jittered;
         d.settings.adaptive = None;
+        d.settings.noise = None;
         d.camera.lens.samples = self.lens;
         d.settings.glossy.samples = self.glossy;
         d.camera.time.samples = self.time;
@@ -351,7 +425,7 @@ pub struct SweepDesc {
     pub reference: ReferenceSettings,
 }
 
-/// Sample counts the default sweep tries.
+/// Sample counts the default sweep tries (and, for noise-driven sampling, target errors).
 const COUNTS: [u32; 4] = [1, 4, 16, 64];
 
 impl SweepDesc {
@@ -365,6 +439,7 @@ impl SweepDesc {
                 patterns: vec![Pattern::Grid, Pattern::Random, Pattern::Jittered],
             },
             Axis::Adaptive { thresholds: vec![0.2, 0.1, 0.05, 0.02], depths: vec![3] },
+            Axis::Noise { targets: vec![0.04, 0.02, 0.01, 0.005], aa: 1, min_samples: 16, max_samples: 4096 },
         ];
         if effects.area_lights {
             axes.push(Axis::AreaLight { samples: COUNTS.to_vec() });
@@ -446,6 +521,7 @@ pub fn cheapest(axis: &str, desc: &SceneDesc) -> Option<SceneDesc> {
         "glossy" => d.settings.glossy.samples = 1,
         "lens" => d.camera.lens.samples = 1,
         "time" => d.camera.shutter = None,
+        "noise" => d.settings.noise = None,
         _ => return None,
     }
     Some(d)
@@ -467,11 +543,11 @@ mod tests {
     fn the_default_sweep_covers_only_the_effects_a_scene_uses() {
         let none = SweepDesc::default_for(&Effects::default());
         let names: Vec<&str> = none.axes.iter().map(Axis::name).collect();
-        assert_eq!(names, ["aa", "adaptive"]);
+        assert_eq!(names, ["aa", "adaptive", "noise"]);
         let all = Effects { area_lights: true, glossy: true, lens: true, motion: true, ..Effects::default() };
         let names: Vec<&str> = SweepDesc::default_for(&all).axes.iter().map(Axis::name).collect();
-        assert_eq!(names, ["aa", "adaptive", "area_light", "glossy", "lens", "time"]);
-        assert_eq!(SweepDesc::default_for(&Effects::default()).variants().len(), 12 + 4);
+        assert_eq!(names, ["aa", "adaptive", "noise", "area_light", "glossy", "lens", "time"]);
+        assert_eq!(SweepDesc::default_for(&Effects::default()).variants().len(), 12 + 4 + 4);
     }
 
     #[test]
