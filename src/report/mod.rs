@@ -265,9 +265,8 @@ mod tests {
         }
     }
 
-    #[test]
-    fn the_pareto_front_keeps_only_undominated_points() {
-        let report = Report {
+    fn report_of(points: Vec<Point>) -> Report {
+        Report {
             scene: "s".into(),
             script: None,
             width: 1,
@@ -280,15 +279,20 @@ mod tests {
                 rays: RayCounts::default(),
                 image: String::new(),
             },
-            points: vec![
-                point("aa", 1.0, 0.1),
-                point("aa", 2.0, 0.05),
-                point("lens", 1.5, 0.2),
-                point("lens", 3.0, 0.05),
-                point("adaptive", 0.5, 0.3),
-            ],
+            points,
             costs: vec![],
-        };
+        }
+    }
+
+    #[test]
+    fn the_pareto_front_keeps_only_undominated_points() {
+        let report = report_of(vec![
+            point("aa", 1.0, 0.1),
+            point("aa", 2.0, 0.05),
+            point("lens", 1.5, 0.2),
+            point("lens", 3.0, 0.05),
+            point("adaptive", 0.5, 0.3),
+        ]);
         assert_eq!(report.pareto_front(), [4, 0, 1]);
         assert_eq!(report.axes(), ["aa", "lens", "adaptive"]);
     }
@@ -305,23 +309,8 @@ mod tests {
         adaptive.rays.camera = 100;
         let mut outside = point("adaptive", 0.1, 0.5);
         outside.rays.camera = 10;
-        let report = Report {
-            scene: "s".into(),
-            script: None,
-            width: 1,
-            height: 1,
-            threads: 1,
-            simd: SimdLevel::Scalar,
-            reference: Reference {
-                description: String::new(),
-                seconds: 0.0,
-                rays: RayCounts::default(),
-                image: String::new(),
-            },
-            // rays 100 → 0.04, 400 → 0.01: rays ∝ rmse^-1 here, so 0.02 needs 200 rays.
-            points: vec![fixed(1.0, 0.04, 100), fixed(4.0, 0.01, 400), adaptive, outside],
-            costs: vec![],
-        };
+        // rays 100 → 0.04, 400 → 0.01: rays ∝ rmse^-1 here, so 0.02 needs 200 rays.
+        let report = report_of(vec![fixed(1.0, 0.04, 100), fixed(4.0, 0.01, 400), adaptive, outside]);
         let savings = report.savings();
         assert_eq!(savings.len(), 2);
         let rays = savings[0].fixed_rays.as_ref().expect("0.02 lies on the curve");
