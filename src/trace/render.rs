@@ -181,10 +181,9 @@ pub fn render_observed<S: PrimitiveStore>(
         return (Film::new(settings.width, settings.height), empty, RenderStats::default());
     }
     let mut noise_stats = NoiseStats::default();
-    let (Assembled { film, mut rays, cost, dropped }, adaptive) = match settings.adaptive {
-        Some(adaptive) => render_adaptive(scene, settings, &adaptive, wanted.cost, &tile_done),
-        None if settings.noise.is_some() => {
-            let noise = settings.noise.unwrap_or_default();
+    let (Assembled { film, mut rays, cost, dropped }, adaptive) = match (settings.adaptive, settings.noise) {
+        (Some(adaptive), _) => render_adaptive(scene, settings, &adaptive, wanted.cost, &tile_done),
+        (None, Some(noise)) => {
             let (image, stats) =
                 super::progressive::render_noise(scene, settings, &noise, wanted.cost, &tile_done);
             noise_stats = stats;
@@ -194,10 +193,11 @@ pub fn render_observed<S: PrimitiveStore>(
         // do lens cameras: each lane's lens point differs, so a block's rays do not form a
         // frustum worth walking (measured: 20 % slower on effects_dof). Shadow packets remain.
         // Motion blur gives every lane its own time: single rays.
-        None if settings.simd.packets()
-            && !wanted.cost
-            && !scene.camera.has_lens()
-            && scene.motion.is_none() =>
+        (None, None)
+            if settings.simd.packets()
+                && !wanted.cost
+                && !scene.camera.has_lens()
+                && scene.motion.is_none() =>
         {
             let level = settings.simd.resolve();
             let sampler = CameraSampler::new(scene, settings);
@@ -206,7 +206,7 @@ pub fn render_observed<S: PrimitiveStore>(
             };
             (render_tiles(settings, false, tile, &tile_done), AdaptiveCounts::default())
         }
-        None => {
+        (None, None) => {
             let want_cost = wanted.cost;
             let sampler = CameraSampler::new(scene, settings);
             let tile = |[x0, y0, x1, y1]: [u32; 4], rays: &mut RayCounts, out: &mut TileOut| {
@@ -383,6 +383,9 @@ pub(super) struct CameraSampler<'a, S: PrimitiveStore> {
     n_lens: u32,
     /// Times per AA position and lens point (1 where nothing moves).
     n_time: u32,
+    /// Whether pixels take batches of samples (noise-driven sampling): a single AA sample then
+    /// lands anywhere in the pixel instead of at its centre.
+    batched: bool,
     /// Camera samples per pixel (`n_aa · n_lens · n_time`), and the strata lens points are
     /// drawn from.
     pub(super) n: u32,
@@ -396,7 +399,18 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
         let n_time = if scene.motion.is_some() { settings.time.samples.max(1) } else { 1 };
         // The scene's camera-samples rule keeps the product within 32 bits.
         let n = n_aa.saturating_mul(n_lens).saturating_mul(n_time);
-        Self { scene, settings, n_aa, aa_strata: strata(n_aa), n_lens, n_time, n, lens_strata: strata(n) }
+        let batched = settings.noise.is_some() && settings.adaptive.is_none();
+        Self {
+            scene,
+            settings,
+            n_aa,
+            aa_strata: strata(n_aa),
+            n_lens,
+            n_time,
+            batched,
+            n,
+            lens_strata: strata(n),
+        }
     }
 
     /// Camera sample `sample` of pixel `(x, y)`: its ray (counted as a camera or lens ray), its
@@ -428,8 +442,7 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
             SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample: PIXEL_PATTERNS - batch };
         let i = sample / (self.n_lens * self.n_time);
         let u = uniform2(&patterns, DIM_PIXEL, i);
-        let batched = settings.noise.is_some() && settings.adaptive.is_none();
-        let offset = pixel_offset(&settings.aa, self.n_aa, self.aa_strata, i, u, batched);
+        let offset = pixel_offset(&settings.aa, self.n_aa, self.aa_strata, i, u, self.batched);
         let (px, py) = (x as f32 + offset.x, y as f32 + offset.y);
         let time = match scene.motion {
             Some(_) => {
