@@ -43,7 +43,7 @@ fn plain(full: &SceneDesc) -> SceneDesc {
             _ => None,
         };
         if let Some((position, colour, intensity)) = point {
-            *light = LightDesc::Point { position, colour, intensity };
+            *light = LightDesc::Point { position, colour, intensity, falloff: Default::default() };
         }
     }
     d

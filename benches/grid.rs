@@ -56,7 +56,7 @@ const LIGHT: Vec3 = Vec3::new(15.0, 25.0, 30.0);
 fn tables() -> SceneTables {
     SceneTables {
         materials: vec![Material::default()],
-        lights: vec![Light::Point { position: LIGHT, radiance: Vec3::ONE }],
+        lights: vec![Light::Point { position: LIGHT, radiance: Vec3::ONE, falloff: Default::default() }],
         camera: Camera::look_at(Vec3::new(0.0, 0.0, 1.6 * EXTENT), Vec3::ZERO, Vec3::Y, 45f32.to_radians()),
         background: Vec3::ZERO,
         ambient: Vec3::ZERO,

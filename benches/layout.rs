@@ -59,7 +59,7 @@ fn many<S: PrimitiveStore>() -> TraceScene<S> {
     });
     let tables = SceneTables {
         materials: vec![Material::default()],
-        lights: vec![Light::Point { position: MANY_LIGHT, radiance: Vec3::ONE }],
+        lights: vec![Light::Point { position: MANY_LIGHT, radiance: Vec3::ONE, falloff: Default::default() }],
         camera: Camera::look_at(
             Vec3::new(0.0, 4.0, -11.0),
             Vec3::new(0.0, 4.0, 0.0),

@@ -17,6 +17,7 @@ pub mod scene;
 pub mod script;
 pub mod simd;
 pub mod store;
+pub mod texture;
 pub mod trace;
 pub mod world;
 

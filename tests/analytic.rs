@@ -51,7 +51,7 @@ fn head_on_camera() -> Camera {
 }
 
 fn point_light(position: Vec3, radiance: Vec3) -> Light {
-    Light::Point { position, radiance }
+    Light::Point { position, radiance, falloff: Default::default() }
 }
 
 #[test]
@@ -141,7 +141,7 @@ fn glass_slab_shifts_a_ray_by_the_analytic_lateral_offset() {
     );
     let materials = vec![
         Material { kd: Vec3::ONE, ..Default::default() },
-        Material { kd: Vec3::ZERO, kt: 1.0, ior, ..Default::default() },
+        Material { kd: Vec3::ZERO, kt: Vec3::ONE, ior, ..Default::default() },
     ];
     let camera = head_on_camera();
     let lights = vec![point_light(light, Vec3::ONE)];
@@ -182,7 +182,7 @@ fn total_internal_reflection_past_the_critical_angle() {
     let green_wall = object(Shape::Plane { point: DVec3::new(3.0, 0.0, 0.0), normal: -Vec3::X }, 2);
     let (red, green) = (Vec3::new(0.9, 0.1, 0.1), Vec3::new(0.1, 0.8, 0.2));
     let materials = vec![
-        Material { kd: Vec3::ZERO, kt: 1.0, ior, ..Default::default() },
+        Material { kd: Vec3::ZERO, kt: Vec3::ONE, ior, ..Default::default() },
         Material { kd: red, ..Default::default() },
         Material { kd: green, ..Default::default() },
     ];

@@ -30,6 +30,10 @@ fn translated(d: DVec3) -> SceneDesc {
     desc.camera.focus_on = desc.camera.focus_on.map(|p| p + d);
     for light in &mut desc.lights {
         match light {
+            LightDesc::Spot { position: p, look_at, .. } => {
+                *p += d;
+                *look_at += d;
+            }
             LightDesc::Point { position: p, .. }
             | LightDesc::Rect { corner: p, .. }
             | LightDesc::Disk { centre: p, .. } => *p += d,

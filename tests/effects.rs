@@ -349,6 +349,8 @@ fn every_effect_on_gives_identical_bytes_on_one_and_two_threads() {
         intensity: 0.5,
         samples: 4,
         pattern: penumbra::sample::Pattern::Jittered,
+        falloff: Default::default(),
+        visible: false,
     });
     for adaptive in [false, true] {
         if adaptive {

@@ -352,10 +352,10 @@ fn grid_matches_brute_force_at_huge_and_tiny_scales() {
 }
 
 /// Brute-force transmittance: every crossing of every object in `(0, t_max)`.
-fn transmittance_brute(scene: &TraceScene, ray: &Ray, t_max: f32) -> f32 {
+fn transmittance_brute(scene: &TraceScene, ray: &Ray, t_max: f32) -> Vec3 {
     let store = &scene.store;
     let kt = |h: &Hit| scene.material(store.material(h)).kt;
-    let mut pass = 1.0f32;
+    let mut pass = Vec3::ONE;
     for i in 0..store.unbounded_count() {
         if let Some(h) = store.intersect_unbounded(i, ray, 0.0, t_max) {
             pass *= kt(&h);
@@ -374,11 +374,12 @@ fn transmittance_brute(scene: &TraceScene, ray: &Ray, t_max: f32) -> f32 {
 #[test]
 fn transmittance_equals_the_brute_force_product_over_all_crossings() {
     let materials = vec![
-        Material { kt: 0.0, ..Material::default() },
-        Material { kt: 0.5, ..Material::default() },
-        Material { kt: 0.9, ..Material::default() },
-        Material { kt: 0.75, ..Material::default() },
-        Material { kt: 0.95, ..Material::default() },
+        // Grey and tinted: every channel is multiplied on its own.
+        Material { kt: Vec3::ZERO, ..Material::default() },
+        Material { kt: Vec3::new(0.5, 0.6, 0.7), ..Material::default() },
+        Material { kt: Vec3::splat(0.9), ..Material::default() },
+        Material { kt: Vec3::new(0.75, 0.95, 0.5), ..Material::default() },
+        Material { kt: Vec3::splat(0.95), ..Material::default() },
     ];
     let (mut rays, mut partial, mut bad) = (0usize, 0usize, Vec::new());
     for seed in 300..310u64 {
@@ -402,9 +403,9 @@ fn transmittance_equals_the_brute_force_product_over_all_crossings() {
             let g = transmittance(&scene, &q.ray, t_max);
             let b = transmittance_brute(&scene, &q.ray, t_max);
             rays += 1;
-            partial += (b > 0.0 && b < 1.0) as usize;
+            partial += (b.x > 0.0 && b.x < 1.0) as usize;
             // The factors are multiplied in a different order: allow a few ulps per factor.
-            let same = (g == 0.0) == (b == 0.0) && (g - b).abs() <= 1e-5 * b;
+            let same = (g == Vec3::ZERO) == (b == Vec3::ZERO) && (g - b).abs().cmple(1e-5 * b).all();
             if !same {
                 bad.push(format!("seed {seed} {:?} {:?} t_max {t_max}: grid {g} brute {b}", q.family, q.ray));
             }
@@ -579,7 +580,7 @@ fn geometry_lying_on_cell_walls_is_found_like_brute_force() {
 
 #[test]
 fn transmittance_through_geometry_on_cell_walls_counts_each_crossing_once() {
-    let materials = vec![Material { kt: 0.5, ..Material::default() }];
+    let materials = vec![Material { kt: Vec3::splat(0.5), ..Material::default() }];
     let mut bad = Vec::new();
     let mut rays = 0;
     for seed in 410..414u64 {
@@ -591,7 +592,7 @@ fn transmittance_through_geometry_on_cell_walls_counts_each_crossing_once() {
             let t_max = if q.t_max.is_finite() { q.t_max } else { 100.0 };
             let (g, b) = (transmittance(&scene, &q.ray, t_max), transmittance_brute(&scene, &q.ray, t_max));
             rays += 1;
-            if (g - b).abs() > 1e-5 * b {
+            if !(g - b).abs().cmple(1e-5 * b).all() {
                 bad.push(format!("seed {seed} {:?} {:?} t_max {t_max}: grid {g} brute {b}", q.family, q.ray));
             }
         }

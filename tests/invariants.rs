@@ -49,7 +49,8 @@ fn a_closed_mirror_box_never_brightens_the_light_it_carries() {
     // direct shading, ambient + kd·I (+ ks·I).
     for (kr, kt) in [(1.0, 0.0), (0.9, 0.1), (0.5, 0.5), (0.3, 0.0)] {
         let ball = Material { kd: Vec3::new(0.8, 0.6, 0.4), ks: 0.2, shininess: 20.0, ..Material::default() };
-        let wall = Material { kd: Vec3::ZERO, ks: 0.0, kr, kt, ior: 1.0, ..Material::default() };
+        let wall =
+            Material { kd: Vec3::ZERO, ks: 0.0, kr, kt: Vec3::splat(kt), ior: 1.0, ..Material::default() };
         let intensity = 0.9;
         let ambient = Vec3::splat(0.05);
         let tables = SceneTables {
@@ -57,6 +58,7 @@ fn a_closed_mirror_box_never_brightens_the_light_it_carries() {
             lights: vec![Light::Point {
                 position: Vec3::new(1.5, 1.5, -1.0),
                 radiance: Vec3::splat(intensity),
+                falloff: Default::default(),
             }],
             camera: Camera::look_at(Vec3::new(-1.5, 0.5, -1.8), Vec3::ZERO, Vec3::Y, 1.2),
             // With kt = 0 nothing may leave the box: a bright background would show at once.

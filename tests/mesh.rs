@@ -34,7 +34,11 @@ fn lit_tables(eye: Vec3) -> SceneTables {
             shininess: 30.0,
             ..Material::default()
         }],
-        lights: vec![Light::Point { position: Vec3::new(-3.0, 4.0, 6.0), radiance: Vec3::ONE }],
+        lights: vec![Light::Point {
+            position: Vec3::new(-3.0, 4.0, 6.0),
+            radiance: Vec3::ONE,
+            falloff: Default::default(),
+        }],
         camera: Camera::look_at(eye, Vec3::ZERO, Vec3::Y, 30f32.to_radians()),
         background: Vec3::ZERO,
         ambient: Vec3::splat(0.05),
@@ -56,7 +60,11 @@ fn a_tessellated_sphere_with_smooth_normals_matches_the_analytic_sphere_within_2
     // so the terminator (where facets must differ from a sphere) is out of view.
     let eye = Vec3::new(0.0, 0.0, 5.0);
     let mut tables = lit_tables(eye);
-    tables.lights = vec![Light::Point { position: Vec3::new(2.0, 3.0, 9.0), radiance: Vec3::ONE }];
+    tables.lights = vec![Light::Point {
+        position: Vec3::new(2.0, 3.0, 9.0),
+        radiance: Vec3::ONE,
+        falloff: Default::default(),
+    }];
     let mesh = asset(icosphere(Vec3::ZERO, 1.0, 5));
     let inst = Shape::Mesh { mesh: MeshId(0), bounds: mesh.data.bounds };
     let placed = |shape: Shape| {

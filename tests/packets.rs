@@ -57,7 +57,9 @@ fn scene_with<S: PrimitiveStore>(seed: u64, kts: &[f32]) -> TraceScene<S> {
     for (k, o) in objects.iter_mut().enumerate() {
         o.material = MaterialId((k % kts.len()) as u32);
     }
-    let materials = kts.iter().map(|&kt| Material { kt, ..Material::default() }).collect();
+    // Tinted: the channels' products differ, and each must match the single ray's bits.
+    let materials =
+        kts.iter().map(|&kt| Material { kt: Vec3::new(kt, 0.75 * kt, kt), ..Material::default() }).collect();
     TraceScene::build_with_meshes(
         &objects,
         &meshes,
@@ -287,12 +289,12 @@ fn check_transmittances<S: PrimitiveStore>() {
         let mut rng = rng(seed ^ 0x7a55);
         for round in 0..200 {
             let p = shadow_packet(&mut rng, round % 2 == 0);
-            let want: Vec<f32> = (0..LANES)
+            let want: Vec<Vec3> = (0..LANES)
                 .map(|i| {
                     if p.active[i] {
                         penumbra::trace::transmittance(&scene, &p.ray(i), p.t_max[i])
                     } else {
-                        0.0
+                        Vec3::ZERO
                     }
                 })
                 .collect();
@@ -303,17 +305,17 @@ fn check_transmittances<S: PrimitiveStore>() {
                 );
                 for i in (0..LANES).filter(|&i| p.active[i]) {
                     assert_eq!(
-                        got[i].to_bits(),
-                        want[i].to_bits(),
+                        got[i].to_array().map(f32::to_bits),
+                        want[i].to_array().map(f32::to_bits),
                         "seed {seed}, round {round}, lane {i} ({level})"
                     );
                 }
             }
             for i in (0..LANES).filter(|&i| p.active[i]) {
                 lanes += 1;
-                partial += usize::from(want[i] > 0.0 && want[i] < 1.0);
+                partial += usize::from(want[i].x > 0.0 && want[i].x < 1.0);
                 // Three or more crossings of distinct coefficients: the order of the product shows.
-                several += usize::from(want[i] > 0.0 && want[i] < 0.5 * 0.9 * 0.8);
+                several += usize::from(want[i].x > 0.0 && want[i].x < 0.5 * 0.9 * 0.8);
             }
         }
     }
@@ -454,7 +456,9 @@ fn shadow_packets_block_exactly_the_lanes_single_rays_find_blocked() {
         for round in 0..200 {
             let p = shadow_packet(&mut rng, round % 2 == 0);
             let want: Vec<bool> = (0..LANES)
-                .map(|i| p.active[i] && penumbra::trace::transmittance(&scene, &p.ray(i), p.t_max[i]) == 0.0)
+                .map(|i| {
+                    p.active[i] && penumbra::trace::transmittance(&scene, &p.ray(i), p.t_max[i]) == Vec3::ZERO
+                })
                 .collect();
             for level in [SimdLevel::Baseline, SimdLevel::Auto] {
                 let got = level.run(
@@ -695,7 +699,15 @@ fn boxes_mesh() -> MeshData {
         }
     }
     let bounds = penumbra::math::Aabb::from_points(positions.iter().copied());
-    MeshData { positions, normals: Vec::new(), indices, bounds }
+    MeshData {
+        positions,
+        normals: Vec::new(),
+        indices,
+        bounds,
+        uvs: Vec::new(),
+        face_material: Vec::new(),
+        materials: Vec::new(),
+    }
 }
 
 /// Rays through mesh vertices and through the points where mesh edges cross the mesh grid's
@@ -779,7 +791,7 @@ fn packets_through_vertices_and_edge_wall_crossings_equal_single_rays() {
                         }
                         _ => assert_eq!(bits(got.hit[i]), bits(want), "{what}"),
                     }
-                    let shadow = penumbra::trace::transmittance(&scene, &p.ray(i), p.t_max[i]) == 0.0;
+                    let shadow = penumbra::trace::transmittance(&scene, &p.ray(i), p.t_max[i]) == Vec3::ZERO;
                     assert_eq!(blocked[i], shadow, "mesh {m}, round {round}, lane {i} ({level}): shadow");
                     if level == SimdLevel::Auto {
                         lanes += 1;

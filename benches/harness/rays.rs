@@ -157,7 +157,9 @@ pub fn trace_shadow_at<S: PrimitiveStore>(
     rays.par_chunks(256)
         .map(|c| {
             with_single_ray_level(level, || {
-                c.iter().filter(|(r, t)| transmittance(scene, black_box(r), *t) == 0.0).count()
+                c.iter()
+                    .filter(|(r, t)| transmittance(scene, black_box(r), *t) == penumbra::math::Vec3::ZERO)
+                    .count()
             })
         })
         .sum()

@@ -58,6 +58,16 @@ impl MemoryEstimate {
         let triangles: u64 = desc.meshes.assets().iter().map(|a| a.data.triangle_count() as u64).sum();
         let meshes: u64 = desc.meshes.assets().iter().map(|a| a.memory_bytes() as u64).sum();
         let objects = desc.objects.len() as u64;
+        // Decoded images, each once however many textures share it.
+        let mut rasters: Vec<&std::sync::Arc<penumbra::texture::Raster>> = Vec::new();
+        for t in desc.texture_table.iter() {
+            if let penumbra::texture::Texture::Image { raster, .. } = t {
+                if !rasters.iter().any(|seen| std::sync::Arc::ptr_eq(seen, raster)) {
+                    rasters.push(raster);
+                }
+            }
+        }
+        let textures: u64 = rasters.iter().map(|r| r.memory_bytes() as u64).sum();
         Self {
             film: 12 * n,
             // Colour and cost per pixel, and the allocator's share of many small tile buffers
@@ -66,8 +76,9 @@ impl MemoryEstimate {
             aovs: aov_bytes * n,
             encode: encode_per_pixel * n,
             // Triangles laid out for the store (≈ 48 B each), the top-level grid and tables, and
-            // the process itself (code, threads, the World: 9 MiB measured at 64×48).
-            scene: meshes + 48 * triangles + 256 * objects + (8 << 20),
+            // the process itself (code, threads, the World: 9 MiB measured at 64×48), and the
+            // decoded texture images.
+            scene: meshes + 48 * triangles + 256 * objects + textures + (8 << 20),
         }
     }
 

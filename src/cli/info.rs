@@ -127,7 +127,9 @@ fn locate(
             let place = match (file.role, scene, script, &scene_dir) {
                 (InputRole::Scene, Some(s), _, _) => Some(s.to_path_buf()),
                 (InputRole::Script, _, Some(s), _) => Some(s.to_path_buf()),
-                (InputRole::Mesh, _, _, Some(dir)) => Some(dir.join(&file.name)),
+                (InputRole::Mesh | InputRole::Library | InputRole::Texture, _, _, Some(dir)) => {
+                    Some(dir.join(&file.name))
+                }
                 _ => file.path.clone(),
             };
             (file.clone(), place)
@@ -161,7 +163,9 @@ fn verify(image: &Path, located: &[(InputFile, Option<PathBuf>)]) -> anyhow::Res
                 match file.role {
                     InputRole::Scene => "; pass --scene PATH where it is now",
                     InputRole::Script => "; pass --script PATH where it is now",
-                    InputRole::Mesh => "; pass --scene PATH of a scene with its meshes beside it",
+                    InputRole::Mesh | InputRole::Library | InputRole::Texture => {
+                        "; pass --scene PATH of a scene with its meshes and textures beside it"
+                    }
                 }
             )),
             InputCheck::Changed { path, sha256 } => problems.push(format!(

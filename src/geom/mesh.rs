@@ -1,13 +1,16 @@
 //! Indexed triangle meshes in object space: the [`MeshData`] arrays a file loader fills
-//! (see `scene::obj`), smooth per-vertex normals for meshes that come without any
-//! ([`vertex_normals`]), and a watertight [`icosphere`] for tests and benchmarks.
+//! (see `scene::obj`), the [`ObjMaterial`]s an OBJ's `.mtl` libraries define, smooth
+//! per-vertex normals for meshes that come without any ([`vertex_normals`]), and a watertight
+//! [`icosphere`] for tests and benchmarks.
 //!
 //! Indices are `u32` triples into `positions`, counter-clockwise seen from the front, so the
 //! right-hand normal `(v1 − v0) × (v2 − v0)` points out of the surface.
 
 use std::collections::HashMap;
 
-use crate::math::{Aabb, Vec3};
+use std::path::PathBuf;
+
+use crate::math::{Aabb, Vec2, Vec3};
 
 /// The normal [`vertex_normals`] gives a vertex that no usable (non-degenerate, finite) face
 /// touches: +Y, an arbitrary but finite unit vector.
@@ -27,6 +30,41 @@ pub struct MeshData {
     pub indices: Vec<[u32; 3]>,
     /// Bounds of the positions used by faces.
     pub bounds: Aabb,
+    /// Per-vertex texture coordinates `(u, v)` as the file gives them (OBJ `vt`, v up), same
+    /// indexing as `positions`; empty when the mesh has none.
+    pub uvs: Vec<Vec2>,
+    /// Per triangle, an index into `materials`; empty when the mesh uses no materials.
+    pub face_material: Vec<u32>,
+    /// The materials `face_material` indexes; empty when the mesh uses no materials.
+    pub materials: Vec<ObjMaterial>,
+}
+
+/// A material read from an OBJ's `.mtl` library, as the file gives it (unset statements are None).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ObjMaterial {
+    /// The `newmtl` name (`""` for the default material of faces without a `usemtl`).
+    pub name: String,
+    /// `Kd`: diffuse colour.
+    pub kd: Option<Vec3>,
+    /// `Ks`: specular colour.
+    pub ks: Option<Vec3>,
+    /// `Ns`: specular exponent.
+    pub ns: Option<f32>,
+    /// `d` (dissolve, 1 = opaque); `Tr` is read as 1 − Tr.
+    pub d: Option<f32>,
+    /// `Ni`: index of refraction.
+    pub ni: Option<f32>,
+    /// `map_Kd`, as written in the .mtl (relative to the .mtl's folder unless absolute).
+    pub map_kd: Option<PathBuf>,
+    /// `map_bump` / `bump`, as written (relative to the .mtl's folder unless absolute).
+    pub map_bump: Option<PathBuf>,
+    /// The `-bm` multiplier of `map_bump` / `bump` (None when absent).
+    pub bump_multiplier: Option<f32>,
+    /// The .mtl file it came from (as resolved: the OBJ's folder joined with the `mtllib` name);
+    /// empty for the default material.
+    pub file: PathBuf,
+    /// 1-based line of its `newmtl` in `file`; 0 for the default material.
+    pub line: usize,
 }
 
 impl MeshData {
@@ -35,11 +73,15 @@ impl MeshData {
         self.indices.len()
     }
 
-    /// Bytes held by the arrays (their lengths, not their capacities).
+    /// Bytes held by the arrays (their lengths, not their capacities; for `materials` the
+    /// structs only, not the names and paths they point to).
     pub fn memory_bytes(&self) -> usize {
         std::mem::size_of_val(self.positions.as_slice())
             + std::mem::size_of_val(self.normals.as_slice())
             + std::mem::size_of_val(self.indices.as_slice())
+            + std::mem::size_of_val(self.uvs.as_slice())
+            + std::mem::size_of_val(self.face_material.as_slice())
+            + std::mem::size_of_val(self.materials.as_slice())
     }
 
     /// Recomputes `bounds` from the positions that faces use; [`Aabb::EMPTY`] without faces.
@@ -124,7 +166,8 @@ pub fn vertex_normals(positions: &[Vec3], indices: &[[u32; 3]]) -> Vec<Vec3> {
 ///
 /// Vertices are shared (every edge is used by exactly two triangles, once in each direction),
 /// faces wind counter-clockwise seen from outside and the normals are the exact sphere normals
-/// at the vertices. `subdivisions` above [`MAX_ICOSPHERE_SUBDIVISIONS`] are clamped to it.
+/// at the vertices; it has no texture coordinates or materials. `subdivisions` above
+/// [`MAX_ICOSPHERE_SUBDIVISIONS`] are clamped to it.
 ///
 /// # Examples
 /// ```
@@ -200,7 +243,7 @@ pub fn icosphere(centre: Vec3, radius: f32, subdivisions: u32) -> MeshData {
     }
 
     let positions = dirs.iter().map(|&d| centre + d * radius).collect();
-    let mut mesh = MeshData { positions, normals: dirs, indices: faces, bounds: Aabb::EMPTY };
+    let mut mesh = MeshData { positions, normals: dirs, indices: faces, ..MeshData::default() };
     mesh.update_bounds();
     mesh
 }
@@ -306,6 +349,7 @@ mod tests {
             // Euler: V - E + F = 2 with E = 3F/2.
             assert_eq!(mesh.positions.len(), 2 + mesh.triangle_count() / 2);
             assert_eq!(mesh.normals.len(), mesh.positions.len());
+            assert!(mesh.uvs.is_empty() && mesh.face_material.is_empty() && mesh.materials.is_empty());
             assert_unit_and_finite(&mesh.normals);
             for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
                 assert!(((*p - centre).length() - 2.5).abs() < 1e-5);
@@ -352,9 +396,18 @@ mod tests {
             normals: vec![],
             indices: vec![[0, 1, 2]],
             bounds: Aabb::EMPTY,
+            uvs: vec![],
+            face_material: vec![],
+            materials: vec![],
         };
         assert_eq!(mesh.triangle_count(), 1);
         assert_eq!(mesh.memory_bytes(), 4 * 12 + 12);
+        // Texture coordinates, face materials and material structs count too.
+        mesh.uvs = vec![Vec2::ZERO; 4];
+        mesh.face_material = vec![0];
+        mesh.materials = vec![ObjMaterial::default()];
+        let material = std::mem::size_of::<ObjMaterial>();
+        assert_eq!(mesh.memory_bytes(), 4 * 12 + 12 + 4 * 8 + 4 + material);
         mesh.update_bounds();
         // The unused vertex at (100, 100, 100) is not in the bounds.
         assert_eq!(mesh.bounds, Aabb::new(Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0)));

@@ -17,6 +17,7 @@ pub mod plane;
 pub mod polygon;
 pub mod sphere;
 pub mod triangle;
+pub mod uv;
 
 use glam::{DAffine3, DVec3};
 

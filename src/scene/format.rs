@@ -42,8 +42,10 @@
 //! to 32 bits. Directions, sizes, angles and colours are 32-bit. Colours are linear RGB. Sample patterns ([`Pattern`]) and filters ([`Filter`])
 //! are the sampler's own types, written as bare names.
 
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec2, Vec3};
 use serde::{Deserialize, Deserializer};
+
+pub use crate::trace::light::Falloff;
 
 pub use crate::film::{ToneMapping, ToneOperator};
 pub use crate::sample::{Filter, Pattern};
@@ -59,6 +61,9 @@ pub struct SceneDesc {
     pub settings: SettingsDesc,
     /// Named materials, referenced by objects; their order defines material ids.
     pub materials: Vec<MaterialDesc>,
+    /// Named textures, referenced by materials (`kd_texture`, `ks_texture`). Default none.
+    #[serde(default)]
+    pub textures: Vec<TextureDesc>,
     /// Light sources.
     #[serde(default)]
     pub lights: Vec<LightDesc>,
@@ -67,6 +72,14 @@ pub struct SceneDesc {
     /// The meshes the objects name, loaded and gridded by `load_scene` (not part of the file).
     #[serde(skip)]
     pub meshes: super::mesh::MeshLibrary,
+    /// The textures of `textures`, in order, then the images of the meshes' `.mtl` libraries,
+    /// loaded by `load_scene` (not part of the file).
+    #[serde(skip)]
+    pub texture_table: std::sync::Arc<[crate::texture::Texture]>,
+    /// Where in `texture_table` each `.mtl` library image went, by its path (not part of the
+    /// file).
+    #[serde(skip)]
+    pub library_textures: Vec<(std::path::PathBuf, crate::texture::TextureId)>,
 }
 
 /// The camera: where it is, where it looks and the image it makes.
@@ -287,9 +300,10 @@ pub struct MaterialDesc {
     /// Mirror reflectance in [0, 1]. Default 0.
     #[serde(default)]
     pub kr: f32,
-    /// Transmittance in [0, 1]; `kr + kt` must not exceed 1. Default 0.
-    #[serde(default)]
-    pub kt: f32,
+    /// Transmittance in [0, 1]: a number, or a colour `(r, g, b)` for tinted glass (its
+    /// shadows are tinted too); `kr + kt` must not exceed 1 in any channel. Default 0.
+    #[serde(default, deserialize_with = "grey_or_colour")]
+    pub kt: Vec3,
     /// Index of refraction, > 0. Default 1.5.
     #[serde(default = "default_ior")]
     pub ior: f32,
@@ -298,11 +312,138 @@ pub struct MaterialDesc {
     /// perfect mirror. Default 0.
     #[serde(default)]
     pub glossiness: f32,
+    /// Light the surface gives off towards every viewer (linear RGB, each channel ≥ 0): a lamp
+    /// shade that glows. It lights nothing else (use a light for that). Default black.
+    #[serde(default)]
+    pub emission: Vec3,
+    /// Balance `kr` and `kt` by Schlick's Fresnel term (for glass, water): the part of `kt`
+    /// that the surface reflects at each angle moves to the mirror, so reflection grows at
+    /// grazing angles and `kr + kt` is kept. Default false.
+    #[serde(default)]
+    pub fresnel: bool,
+    /// Beer–Lambert absorption inside the material per unit of distance (RGB, each channel
+    /// ≥ 0): light travelling `d` inside keeps `exp(−absorption·d)`, so thick glass is darker
+    /// than thin. Applies to rays inside the object (refraction), not to shadow rays. Default 0.
+    #[serde(default)]
+    pub absorption: Vec3,
+    /// Name of a texture in `textures` that `kd` is multiplied by. Default none.
+    #[serde(default)]
+    pub kd_texture: Option<String>,
+    /// Name of a texture in `textures` whose mean of channels `ks` is multiplied by. Default
+    /// none.
+    #[serde(default)]
+    pub ks_texture: Option<String>,
+    /// Name of a texture in `textures` used as a height map (the mean of its channels, 0 to 1)
+    /// that tilts the shading normal: the surface looks displaced along its normal. Default
+    /// none.
+    #[serde(default)]
+    pub bump_texture: Option<String>,
+    /// How far heights 0 to 1 of `bump_texture` displace the surface, as a fraction of the
+    /// length of one unit of (u, v) on it, so bumps scale with the object; finite, negative for
+    /// dents. Default 0.01.
+    #[serde(default = "default_bump_depth")]
+    pub bump_depth: f32,
+}
+
+fn default_bump_depth() -> f32 {
+    DEFAULT_BUMP_DEPTH
+}
+
+/// [`MaterialDesc::bump_depth`] when the scene gives none.
+pub const DEFAULT_BUMP_DEPTH: f32 = 0.01;
+
+/// A named texture: a colour that varies over surfaces, by their (u, v) coordinates.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TextureDesc {
+    /// Unique name that materials refer to.
+    pub name: String,
+    /// What the texture is.
+    pub kind: TextureKindDesc,
+    /// Scale of (u, v) before the lookup: a checker with scale (4, 4) has four squares per
+    /// unit of u; each component non-zero and finite. Default (1, 1).
+    #[serde(default = "default_uv_scale")]
+    pub scale: Vec2,
+    /// Added to the scaled and rotated (u, v); finite. Scripts animate it. Default (0, 0).
+    #[serde(default)]
+    pub offset: Vec2,
+    /// Rotation of the scaled (u, v) about the origin, counter-clockwise, in degrees; finite.
+    /// Default 0.
+    #[serde(default)]
+    pub rotate_deg: f32,
+}
+
+/// The kinds of texture.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum TextureKindDesc {
+    /// An image file (PNG, JPEG or EXR) relative to the scene, looked up bilinearly; t = 0 is
+    /// the picture's bottom row.
+    Image {
+        /// File name, relative to the scene's folder.
+        file: String,
+        /// `Repeat` (tile) or `Clamp` (edge texels extend). Default `Repeat`.
+        #[serde(default)]
+        wrap: crate::texture::Wrap,
+        /// `Srgb` (8- and 16-bit pictures, decoded to linear) or `Linear`; EXR is always
+        /// linear. Default `Srgb`.
+        #[serde(default)]
+        colour_space: crate::texture::ColourSpace,
+    },
+    /// Unit squares alternating `a` and `b` (`a` where ⌊s⌋ + ⌊t⌋ is even).
+    Checker {
+        /// First colour (linear RGB, each channel in [0, 1]).
+        a: Vec3,
+        /// Second colour.
+        b: Vec3,
+    },
+    /// Stripes one unit wide across s, alternating `a` and `b`.
+    Stripes {
+        /// First colour.
+        a: Vec3,
+        /// Second colour.
+        b: Vec3,
+    },
+    /// `a` at s = 0 blending linearly to `b` at s = 1, clamped outside.
+    Gradient {
+        /// Colour at s = 0.
+        a: Vec3,
+        /// Colour at s = 1.
+        b: Vec3,
+    },
+    /// Fractal Perlin noise blending `a` (0) to `b` (1).
+    Noise {
+        /// Colour where the noise is lowest.
+        a: Vec3,
+        /// Colour where it is highest.
+        b: Vec3,
+        /// Octaves of detail, 1..=16. Default 4.
+        #[serde(default = "default_octaves")]
+        octaves: u32,
+        /// Seed of the noise. Default 0.
+        #[serde(default)]
+        seed: u32,
+    },
+}
+
+fn default_uv_scale() -> Vec2 {
+    Vec2::ONE
+}
+
+fn default_octaves() -> u32 {
+    4
 }
 
 impl MaterialDesc {
     /// The engine material these parameters describe.
-    pub fn material(&self) -> crate::trace::Material {
+    /// Textures are looked up by name in `textures` (the scene's table; validated, so a name
+    /// missing there is left untextured).
+    pub fn material(&self, textures: &[TextureDesc]) -> crate::trace::Material {
+        let find = |name: &Option<String>| {
+            let name = name.as_deref()?;
+            let i = textures.iter().position(|t| t.name == name)?;
+            Some(crate::texture::TextureId(i as u32))
+        };
         crate::trace::Material {
             kd: self.kd,
             ks: self.ks,
@@ -311,13 +452,53 @@ impl MaterialDesc {
             kt: self.kt,
             ior: self.ior,
             glossiness: self.glossiness,
+            emission: self.emission,
+            fresnel: self.fresnel,
+            absorption: self.absorption,
+            maps: crate::trace::material::Maps {
+                kd: find(&self.kd_texture),
+                ks: find(&self.ks_texture),
+                bump: find(&self.bump_texture)
+                    .map(|texture| crate::trace::material::Bump { texture, depth: self.bump_depth }),
+            },
         }
     }
 
-    /// The description of an engine material, under `name`.
-    pub fn describe(name: &str, m: &crate::trace::Material) -> Self {
-        let crate::trace::Material { kd, ks, shininess, kr, kt, ior, glossiness } = *m;
-        Self { name: name.to_owned(), kd, ks, shininess, kr, kt, ior, glossiness }
+    /// The description of an engine material, under `name`; its textures named from `textures`
+    /// (the names of the scene's texture table).
+    pub fn describe(name: &str, m: &crate::trace::Material, textures: &[String]) -> Self {
+        let crate::trace::Material {
+            kd,
+            ks,
+            shininess,
+            kr,
+            kt,
+            ior,
+            glossiness,
+            emission,
+            fresnel,
+            absorption,
+            maps,
+        } = *m;
+        let named =
+            |t: Option<crate::texture::TextureId>| t.and_then(|t| textures.get(t.0 as usize).cloned());
+        Self {
+            name: name.to_owned(),
+            kd,
+            ks,
+            shininess,
+            kr,
+            kt,
+            ior,
+            glossiness,
+            emission,
+            fresnel,
+            absorption,
+            kd_texture: named(maps.kd),
+            ks_texture: named(maps.ks),
+            bump_texture: named(maps.bump.map(|b| b.texture)),
+            bump_depth: maps.bump.map_or(DEFAULT_BUMP_DEPTH, |b| b.depth),
+        }
     }
 }
 
@@ -325,7 +506,7 @@ impl MaterialDesc {
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub enum LightDesc {
-    /// A point light with no distance falloff (as in classic Phong and POV-Ray).
+    /// A point light, by default with no distance falloff (as in classic Phong and POV-Ray).
     Point {
         /// Position.
         position: DVec3,
@@ -335,6 +516,31 @@ pub enum LightDesc {
         /// Scale of the colour, ≥ 0. Default 1.
         #[serde(default = "default_intensity")]
         intensity: f32,
+        /// `None` or `InverseSquare` (colour × intensity arrives one unit away). Default `None`.
+        #[serde(default)]
+        falloff: Falloff,
+    },
+    /// A spot light: a point light shining into a cone, with a soft edge.
+    Spot {
+        /// Position.
+        position: DVec3,
+        /// The point the cone's axis aims at; must differ from `position`.
+        look_at: DVec3,
+        /// Half-angle of the cone in degrees, in (0, 90]: no light outside it.
+        cone_deg: f32,
+        /// Width of the soft edge in degrees, in [0, cone_deg]: the light fades smoothly from
+        /// full at `cone_deg − soft_deg` to nothing at `cone_deg`. Default 5 (at most `cone_deg`).
+        #[serde(default)]
+        soft_deg: Option<f32>,
+        /// Linear RGB colour, each channel ≥ 0. Default white.
+        #[serde(default = "default_colour")]
+        colour: Vec3,
+        /// Scale of the colour, ≥ 0. Default 1.
+        #[serde(default = "default_intensity")]
+        intensity: f32,
+        /// `None` or `InverseSquare`. Default `None`.
+        #[serde(default)]
+        falloff: Falloff,
     },
     /// A light infinitely far away, shining along `direction`.
     Directional {
@@ -348,7 +554,7 @@ pub enum LightDesc {
         intensity: f32,
     },
     /// A parallelogram area light `corner + s·edge_u + t·edge_v` (s, t in [0, 1]), emitting
-    /// to both sides and invisible to camera rays; colour × intensity is spread over the samples.
+    /// to both sides, invisible to camera rays unless `visible`; colour × intensity is spread over the samples.
     Rect {
         /// One corner.
         corner: DVec3,
@@ -368,8 +574,15 @@ pub enum LightDesc {
         /// Placement of the samples over the light. Default `Jittered`.
         #[serde(default)]
         pattern: Pattern,
+        /// `None` or `InverseSquare`, from each sample's point. Default `None`.
+        #[serde(default)]
+        falloff: Falloff,
+        /// Whether camera, reflection and refraction rays see the light (it shows colour ×
+        /// intensity, from both sides); it never casts a shadow. Default false.
+        #[serde(default)]
+        visible: bool,
     },
-    /// A disk area light, emitting to both sides and invisible to camera rays; colour ×
+    /// A disk area light, emitting to both sides, invisible to camera rays unless `visible`; colour ×
     /// intensity is spread over the samples.
     Disk {
         /// Centre.
@@ -390,6 +603,13 @@ pub enum LightDesc {
         /// Placement of the samples over the light. Default `Jittered`.
         #[serde(default)]
         pattern: Pattern,
+        /// `None` or `InverseSquare`, from each sample's point. Default `None`.
+        #[serde(default)]
+        falloff: Falloff,
+        /// Whether camera, reflection and refraction rays see the light (it shows colour ×
+        /// intensity, from both sides); it never casts a shadow. Default false.
+        #[serde(default)]
+        visible: bool,
     },
 }
 
@@ -446,7 +666,8 @@ pub enum ShapeDesc {
         max: DVec3,
     },
     /// A triangle mesh from a Wavefront OBJ file, placed by the object's `transform`. Every
-    /// object naming the same file (and `smooth`) shares one copy of it and one grid.
+    /// object naming the same file (and `smooth` and `materials`) shares one copy of it and one
+    /// grid.
     Mesh {
         /// The OBJ file, relative to the scene file.
         file: String,
@@ -454,7 +675,36 @@ pub enum ShapeDesc {
         /// area and angle); `false` shows flat facets. Default `true`.
         #[serde(default = "default_true")]
         smooth: bool,
+        /// `Object`: the object's `material` everywhere; `FromFile`: each face's material from
+        /// the file's `.mtl` libraries (`mtllib`, `usemtl`), a scene material of the same name
+        /// taking the place of the library's. Default `Object`.
+        #[serde(default)]
+        materials: MeshMaterials,
     },
+}
+
+/// Where a mesh's materials come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+pub enum MeshMaterials {
+    /// The object's `material`, on every face.
+    #[default]
+    Object,
+    /// The OBJ's `.mtl` libraries, face by face (faces before any `usemtl` take the object's
+    /// `material`); a scene material named like a library material replaces it.
+    FromFile,
+}
+
+impl ShapeDesc {
+    /// For a mesh, the key its asset is loaded under: file, `smooth`, and whether its faces
+    /// carry the file's materials.
+    pub fn mesh_key(&self) -> Option<(&str, bool, bool)> {
+        match self {
+            ShapeDesc::Mesh { file, smooth, materials } => {
+                Some((file, *smooth, *materials == MeshMaterials::FromFile))
+            }
+            _ => None,
+        }
+    }
 }
 
 fn default_true() -> bool {
@@ -527,6 +777,37 @@ impl Default for GlossySampling {
     fn default() -> Self {
         Self { samples: DEFAULT_GLOSSY_SAMPLES, pattern: Pattern::Jittered }
     }
+}
+
+/// A colour written as one number (grey, every channel the same) or as `(r, g, b)`.
+fn grey_or_colour<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Vec3, D::Error> {
+    struct GreyOrColour;
+    impl<'de> serde::de::Visitor<'de> for GreyOrColour {
+        type Value = Vec3;
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("a number or a colour (r, g, b)")
+        }
+        fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Vec3, E> {
+            Ok(Vec3::splat(v as f32))
+        }
+        fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Vec3, E> {
+            Ok(Vec3::splat(v as f32))
+        }
+        fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Vec3, E> {
+            Ok(Vec3::splat(v as f32))
+        }
+        fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<Vec3, A::Error> {
+            let mut c = [0.0f32; 3];
+            for (i, slot) in c.iter_mut().enumerate() {
+                *slot = seq.next_element()?.ok_or_else(|| serde::de::Error::invalid_length(i, &self))?;
+            }
+            if seq.next_element::<f32>()?.is_some() {
+                return Err(serde::de::Error::invalid_length(4, &self));
+            }
+            Ok(Vec3::from_array(c))
+        }
+    }
+    deserializer.deserialize_any(GreyOrColour)
 }
 
 fn glossy_sampling<'de, D: Deserializer<'de>>(deserializer: D) -> Result<SamplingDesc, D::Error> {

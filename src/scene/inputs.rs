@@ -39,6 +39,10 @@ pub enum InputRole {
     Script,
     /// A Wavefront OBJ file the scene names.
     Mesh,
+    /// A material library (`.mtl`) a mesh's materials come from.
+    Library,
+    /// An image a texture is read from.
+    Texture,
 }
 
 impl std::fmt::Display for InputRole {
@@ -47,6 +51,8 @@ impl std::fmt::Display for InputRole {
             InputRole::Scene => "scene",
             InputRole::Script => "script",
             InputRole::Mesh => "mesh",
+            InputRole::Library => "material library",
+            InputRole::Texture => "texture",
         })
     }
 }
@@ -123,7 +129,8 @@ pub enum InputCheck {
 }
 
 /// Every file a frame is made from, in a fixed order: the scene, then the script (if any), then
-/// the meshes in the order the scene first names them.
+/// the meshes in the order the scene first names them, then their material libraries, then
+/// the texture images (the scene's textures', then the libraries').
 #[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(transparent)]
 pub struct Inputs {
@@ -151,6 +158,9 @@ impl Inputs {
         let base = scene.parent().unwrap_or_else(|| Path::new(""));
         for mesh in mesh_names(desc) {
             files.push(InputFile::read(InputRole::Mesh, mesh.clone(), &base.join(&mesh))?);
+        }
+        for (role, name) in asset_names(desc, base) {
+            files.push(InputFile::read(role, name.clone(), &base.join(&name))?);
         }
         Ok(Self { files })
     }
@@ -215,6 +225,41 @@ pub fn mesh_names(desc: &SceneDesc) -> Vec<String> {
             if !names.contains(file) {
                 names.push(file.clone());
             }
+        }
+    }
+    names
+}
+
+/// The material libraries of the loaded meshes and every texture image (the scene's, then the
+/// libraries'), each once in order of first mention, named relative to `base` (the scene's
+/// folder) where they lie under it.
+pub fn asset_names(desc: &SceneDesc, base: &Path) -> Vec<(InputRole, String)> {
+    // Compared as absolute paths: the scene may have been loaded through another spelling of
+    // its folder (`scenes`, `./scenes`, `/work/scenes`).
+    let absolute = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+    let base_abs = absolute(base);
+    let relative = |p: &Path| {
+        let p = absolute(p);
+        p.strip_prefix(&base_abs).unwrap_or(&p).to_string_lossy().into_owned()
+    };
+    let mut names: Vec<(InputRole, String)> = Vec::new();
+    let mut add = |role: InputRole, name: String| {
+        if !names.iter().any(|(_, n)| *n == name) {
+            names.push((role, name));
+        }
+    };
+    let assets = desc.meshes.assets();
+    for m in assets.iter().flat_map(|a| &a.data.materials) {
+        if !m.file.as_os_str().is_empty() {
+            add(InputRole::Library, relative(&m.file));
+        }
+    }
+    for file in super::texture::texture_files(desc) {
+        add(InputRole::Texture, file);
+    }
+    for m in assets.iter().flat_map(|a| &a.data.materials) {
+        for map in [&m.map_kd, &m.map_bump].into_iter().flatten() {
+            add(InputRole::Texture, relative(&super::mesh_materials::library_path(m, map)));
         }
     }
     names

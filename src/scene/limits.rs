@@ -279,6 +279,7 @@ fn light_radiance(light: &LightDesc) -> DVec3 {
 fn light_terms(light: &LightDesc) -> (Vec3, f32) {
     match *light {
         LightDesc::Point { colour, intensity, .. }
+        | LightDesc::Spot { colour, intensity, .. }
         | LightDesc::Directional { colour, intensity, .. }
         | LightDesc::Rect { colour, intensity, .. }
         | LightDesc::Disk { colour, intensity, .. } => (colour, intensity),
@@ -362,8 +363,8 @@ impl Extent {
             ShapeDesc::Triangle { vertices } => Self::Points(vertices.to_vec()),
             ShapeDesc::Polygon { vertices } => Self::Points(vertices.clone()),
             ShapeDesc::Cuboid { min, max } => Self::corners(*min, *max),
-            ShapeDesc::Mesh { file, smooth } => {
-                let (_, asset) = meshes.get(file, *smooth)?;
+            ShapeDesc::Mesh { .. } => {
+                let (_, asset) = meshes.get_key(shape.mesh_key()?)?;
                 let b = asset.data.bounds;
                 Self::corners(b.min.as_dvec3(), b.max.as_dvec3())
             }
@@ -515,7 +516,7 @@ pub fn light_extent_violation(light: &LightDesc) -> Option<Violation> {
             );
             Some(violation("radius", rule))
         }
-        LightDesc::Point { .. } | LightDesc::Directional { .. } => None,
+        LightDesc::Point { .. } | LightDesc::Spot { .. } | LightDesc::Directional { .. } => None,
     }
 }
 
@@ -599,6 +600,7 @@ mod tests {
             position: DVec3::ZERO,
             colour: Vec3::splat(10.0),
             intensity: 3e38,
+            falloff: Default::default(),
         });
         let v = radiance_violation(&scene).expect("3e39 overflows");
         assert_eq!(v.path.to_string(), format!("lights[{}].intensity", scene.lights.len() - 1));

@@ -51,6 +51,7 @@ pub fn parse_scene_at(text: &str, origin: &str, base: &Path) -> Result<SceneDesc
         invalid(origin, (line, col), &violation.path, violation.rule)
     })?;
     load_meshes(&mut scene, base, text, origin)?;
+    super::texture::load_textures(&mut scene, base, text, origin)?;
     super::limits::check_located(&scene, text, origin)?;
     Ok(scene)
 }

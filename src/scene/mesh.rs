@@ -13,9 +13,9 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::error::SceneError;
-use super::format::{SceneDesc, ShapeDesc};
+use super::format::SceneDesc;
 use super::locate::{position_of, FieldPath};
-use super::obj::load_obj;
+use super::obj::{load_obj, load_obj_with_materials};
 use crate::accel::MESH_LAMBDA;
 use crate::geom::MeshId;
 use crate::store::MeshAsset;
@@ -25,6 +25,8 @@ use crate::store::MeshAsset;
 struct Entry {
     file: String,
     smooth: bool,
+    /// Loaded with its file's materials (`materials: FromFile`).
+    from_file: bool,
     asset: Arc<MeshAsset>,
 }
 
@@ -38,16 +40,30 @@ impl PartialEq for MeshLibrary {
     /// Two libraries are equal when they hold the same files loaded the same way.
     fn eq(&self, other: &Self) -> bool {
         self.entries.len() == other.entries.len()
-            && self.entries.iter().zip(&other.entries).all(|(a, b)| a.file == b.file && a.smooth == b.smooth)
+            && self
+                .entries
+                .iter()
+                .zip(&other.entries)
+                .all(|(a, b)| a.file == b.file && a.smooth == b.smooth && a.from_file == b.from_file)
     }
 }
 
 impl MeshLibrary {
-    /// The id and asset of `file` loaded with `smooth`, if loaded.
+    /// The id and asset of `file` loaded with `smooth` (without its file's materials), if
+    /// loaded.
     pub fn get(&self, file: &str, smooth: bool) -> Option<(MeshId, &Arc<MeshAsset>)> {
+        self.get_key((file, smooth, false))
+    }
+
+    /// The id and asset loaded under `(file, smooth, from_file)` ([`ShapeDesc::mesh_key`]), if
+    /// loaded.
+    pub fn get_key(
+        &self,
+        (file, smooth, from_file): (&str, bool, bool),
+    ) -> Option<(MeshId, &Arc<MeshAsset>)> {
         self.entries
             .iter()
-            .position(|e| e.file == file && e.smooth == smooth)
+            .position(|e| e.file == file && e.smooth == smooth && e.from_file == from_file)
             .map(|i| (MeshId(i as u32), &self.entries[i].asset))
     }
 
@@ -74,11 +90,22 @@ impl MeshLibrary {
 
     /// Adds an already loaded asset under `(file, smooth)` (for scenes built in code).
     pub fn insert(&mut self, file: impl Into<String>, smooth: bool, asset: Arc<MeshAsset>) -> MeshId {
+        self.insert_key(file, smooth, false, asset)
+    }
+
+    /// Adds an already loaded asset under `(file, smooth, from_file)`.
+    pub fn insert_key(
+        &mut self,
+        file: impl Into<String>,
+        smooth: bool,
+        from_file: bool,
+        asset: Arc<MeshAsset>,
+    ) -> MeshId {
         let file = file.into();
-        if let Some((id, _)) = self.get(&file, smooth) {
+        if let Some((id, _)) = self.get_key((&file, smooth, from_file)) {
             return id;
         }
-        self.entries.push(Entry { file, smooth, asset });
+        self.entries.push(Entry { file, smooth, from_file, asset });
         MeshId(self.entries.len() as u32 - 1)
     }
 }
@@ -87,14 +114,23 @@ impl MeshLibrary {
 /// `scene.meshes`. `text` and `origin` are the scene's source and name, for error positions.
 pub fn load_meshes(scene: &mut SceneDesc, base: &Path, text: &str, origin: &str) -> Result<(), SceneError> {
     for (i, object) in scene.objects.iter().enumerate() {
-        let ShapeDesc::Mesh { file, smooth } = &object.shape else {
+        let Some(key @ (file, smooth, from_file)) = object.shape.mesh_key() else {
             continue;
         };
-        if scene.meshes.get(file, *smooth).is_some() {
+        if scene.meshes.get_key(key).is_some() {
             continue;
         }
         let path = resolve(base, file);
-        let data = load_obj(&path, *smooth).map_err(|error| {
+        let loaded = match from_file {
+            false => load_obj(&path, smooth).map_err(|e| e.to_string()),
+            true => {
+                load_obj_with_materials(&path, smooth).map_err(|e| e.to_string()).and_then(|(data, _)| {
+                    super::mesh_materials::check(&data.materials)?;
+                    Ok(data)
+                })
+            }
+        };
+        let data = loaded.map_err(|error| {
             let field = FieldPath::root().field("objects").index(i).field("shape").field("file");
             let (line, col) = position_of(text, &field).unwrap_or((1, 1));
             SceneError::Invalid {
@@ -105,8 +141,8 @@ pub fn load_meshes(scene: &mut SceneDesc, base: &Path, text: &str, origin: &str)
                 rule: format!("cannot load mesh: {error}"),
             }
         })?;
-        let asset = MeshAsset::new(file.clone(), data, MESH_LAMBDA);
-        scene.meshes.insert(file.clone(), *smooth, Arc::new(asset));
+        let asset = MeshAsset::new(file, data, MESH_LAMBDA);
+        scene.meshes.insert_key(file, smooth, from_file, Arc::new(asset));
     }
     Ok(())
 }

@@ -24,9 +24,12 @@ pub mod limits;
 pub mod load;
 pub mod locate;
 pub mod mesh;
+pub mod mesh_materials;
+pub mod mtl;
 pub mod obj;
 pub mod ray_tree;
 pub mod spawn;
+pub mod texture;
 pub mod validate;
 
 pub use error::SceneError;

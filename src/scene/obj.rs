@@ -2,9 +2,12 @@
 //!
 //! [`load_obj`] reads a file, [`parse_obj`] parses text already in memory. Every object and
 //! group is merged into one mesh, polygons are triangulated as fans, and points (`p`, one-vertex
-//! faces are an error though), lines (`l`), texture coordinates and materials are ignored. With
-//! `smooth`, per-vertex normals come from the file's `vn` records when every face vertex names
-//! one, otherwise from [`vertex_normals`]; without it `normals` is empty (flat facets).
+//! faces are an error though) and lines (`l`) are ignored. With `smooth`, per-vertex normals
+//! come from the file's `vn` records when every face vertex names one, otherwise from
+//! [`vertex_normals`]; without it `normals` is empty (flat facets). Texture coordinates fill
+//! `uvs` when every face vertex names a `vt` (`v/vt`, `v/vt/vn`), and are left empty when none
+//! does. Materials are ignored, except by [`load_obj_with_materials`], which also reads the
+//! `.mtl` libraries the file names (rules in [`mtl`](super::mtl)).
 //!
 //! Parsing is done by [`tobj`] after an own pass over the text that checks every record tobj
 //! would read, so that every problem is reported with the 1-based line it is on (tobj's errors
@@ -16,18 +19,21 @@
 //!
 //! The rules: `v` takes three finite numbers within ±1e18 (`validate::MAX_COORDINATE`),
 //! optionally followed by a weight `w` (tobj divides by it; the result obeys the same rule) or
-//! by an `r g b` colour (dropped); `vn` takes three finite numbers and `vt` at least
-//! two; a face `f` takes at least three vertices `v`, `v/vt`, `v//vn` or `v/vt/vn`, whose indices
-//! are 1-based, or negative to count back from the last record read so far (`-1` is the last),
-//! and must refer to a record that comes before the face; `0` is never an index. A file with no
+//! by an `r g b` colour (dropped); `vn` takes three finite numbers and `vt` one to three finite
+//! numbers (`u [v [w]]`: v defaults to 0, w is dropped); a face `f` takes at least three
+//! vertices `v`, `v/vt`, `v//vn` or `v/vt/vn`, whose indices are 1-based, or negative to count
+//! back from the last record read so far (`-1` is the last), and must refer to a record that
+//! comes before the face; `0` is never an index. Either every face vertex names a `vt` or none
+//! does: otherwise the error is at the first face with a vertex that names none. A file with no
 //! face at all is an error ("contains no triangles").
 
 use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 use crate::geom::mesh::{vertex_normals, MeshData};
-use crate::math::Vec3;
+use crate::math::{Vec2, Vec3};
 use crate::scene::error::{escaped_path, one_line, shown, MAX_LINE_CHARS};
+use crate::scene::mtl::{assign_materials, MtlError, MtlFile, MtlLib, UseMtl};
 use crate::scene::validate::{coordinate_rule, MAX_COORDINATE};
 
 /// Why an OBJ mesh could not be loaded.
@@ -51,6 +57,13 @@ pub enum ObjError {
         /// What is wrong, e.g. `face index 0 is invalid: OBJ indices start at 1`.
         rule: String,
     },
+}
+
+impl From<MtlError> for ObjError {
+    /// A `.mtl`, `mtllib` or `usemtl` problem, as [`ObjError::Invalid`] at its file and line.
+    fn from(e: MtlError) -> Self {
+        ObjError::Invalid { path: e.path, line: e.line, rule: e.rule }
+    }
 }
 
 /// Loads a Wavefront OBJ file as one triangle mesh (see the [module docs](self) for the rules).
@@ -86,6 +99,38 @@ pub fn load_obj(path: &Path, smooth: bool) -> Result<MeshData, ObjError> {
 /// # Ok::<(), penumbra::scene::obj::ObjError>(())
 /// ```
 pub fn parse_obj(text: &str, path: &Path, smooth: bool) -> Result<MeshData, ObjError> {
+    parse_scanned(text, path, smooth).map(|(mesh, _)| mesh)
+}
+
+/// Loads an OBJ file like [`load_obj`], with the materials of the `.mtl` libraries it names
+/// (see [`mtl`](super::mtl) for the rules) in `materials` and `face_material`, and every `.mtl`
+/// file read. Faces before any `usemtl` get a default material named `""`; a mesh that selects
+/// no material has both vectors empty.
+///
+/// # Examples
+/// ```
+/// # use penumbra::scene::obj::load_obj_with_materials;
+/// # let dir = tempfile::tempdir()?;
+/// # std::fs::write(dir.path().join("room.mtl"), "newmtl wall\nKd 0.8 0.8 0.7\n")?;
+/// # let obj = "mtllib room.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl wall\nf 1 2 3\n";
+/// # std::fs::write(dir.path().join("room.obj"), obj)?;
+/// let (mesh, files) = load_obj_with_materials(&dir.path().join("room.obj"), false)?;
+/// assert_eq!(mesh.materials[0].name, "wall");
+/// assert_eq!(mesh.face_material, vec![0]);
+/// assert_eq!(files[0].path, dir.path().join("room.mtl"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn load_obj_with_materials(path: &Path, smooth: bool) -> Result<(MeshData, Vec<MtlFile>), ObjError> {
+    let bytes = std::fs::read(path).map_err(|source| ObjError::Io { path: path.to_path_buf(), source })?;
+    let (mut mesh, scan) = parse_scanned(&String::from_utf8_lossy(&bytes), path, smooth)?;
+    let assigned = assign_materials(path, &scan.libraries, &scan.uses, mesh.triangle_count())?;
+    mesh.materials = assigned.materials;
+    mesh.face_material = assigned.face_material;
+    Ok((mesh, assigned.files))
+}
+
+/// [`parse_obj`], also giving what the scan learned (for the materials).
+fn parse_scanned(text: &str, path: &Path, smooth: bool) -> Result<(MeshData, Scan), ObjError> {
     let invalid = |line: usize, rule: String| ObjError::Invalid { path: path.to_path_buf(), line, rule };
 
     // Check every record with its line number before tobj sees the text.
@@ -125,6 +170,13 @@ pub fn parse_obj(text: &str, path: &Path, smooth: bool) -> Result<MeshData, ObjE
         if smooth && all_have_normals {
             file_normals.extend(m.normals.chunks_exact(3).map(|n| Vec3::new(n[0], n[1], n[2])));
         }
+        if scan.texcoords {
+            // The scan saw a `vt` at every face vertex, so tobj gave every vertex one.
+            if m.texcoords.len() / 2 != m.positions.len() / 3 {
+                return Err(invalid(last_line, "the OBJ reader (tobj) lost texture coordinates".into()));
+            }
+            mesh.uvs.extend(m.texcoords.chunks_exact(2).map(|t| Vec2::new(t[0], t[1])));
+        }
     }
     mesh.update_bounds();
 
@@ -146,7 +198,7 @@ pub fn parse_obj(text: &str, path: &Path, smooth: bool) -> Result<MeshData, ObjE
             vertex_normals(&mesh.positions, &mesh.indices)
         };
     }
-    Ok(mesh)
+    Ok((mesh, scan))
 }
 
 /// A problem found by [`scan`]: 1-based line and rule.
@@ -167,6 +219,12 @@ struct Scan {
     every_face_vertex_has_normal: bool,
     /// True when some record must be cleaned before tobj reads it (see [`clean`]).
     needs_cleaning: bool,
+    /// True when every face vertex names a texture coordinate (and there is a face).
+    texcoords: bool,
+    /// The `mtllib` records, in file order.
+    libraries: Vec<MtlLib>,
+    /// The `usemtl` records, in file order.
+    uses: Vec<UseMtl>,
 }
 
 /// Records counted so far, for resolving and checking face indices.
@@ -183,6 +241,8 @@ struct Counts {
 fn scan(text: &str) -> Result<Scan, ScanError> {
     let mut scan = Scan { every_face_vertex_has_normal: true, ..Scan::default() };
     let mut counts = Counts::default();
+    // The lines of the first face with and without a `vt` at some vertex.
+    let (mut with_vt, mut without_vt) = (None, None);
     for (i, line) in text.lines().enumerate() {
         let at = |rule: String| ScanError { line: i + 1, rule };
         scan.lines = i + 1;
@@ -227,11 +287,20 @@ fn scan(text: &str) -> Result<Scan, ScanError> {
                 counts.v += 1;
             }
             Some("vt") => {
-                for k in 0..2 {
-                    let word =
-                        words.next().ok_or_else(|| at(format!("`vt` needs at least 2 numbers, got {k}")))?;
-                    number(word, "vt").map_err(at)?;
+                let values: Vec<&str> = words.collect();
+                if !(1..=3).contains(&values.len()) {
+                    return Err(at(format!(
+                        "`vt` takes u, then optionally v and w; got {} values",
+                        values.len()
+                    )));
                 }
+                for word in &values {
+                    if !number(word, "vt").map_err(at)?.is_finite() {
+                        return Err(at(format!("non-finite component `{word}` in `vt` record")));
+                    }
+                }
+                // tobj needs u and v: `clean` adds v = 0.
+                scan.needs_cleaning |= values.len() == 1;
                 counts.vt += 1;
             }
             Some("vn") => {
@@ -246,22 +315,49 @@ fn scan(text: &str) -> Result<Scan, ScanError> {
             Some("f") => {
                 let mut corners = 0;
                 for word in words {
-                    let has_normal = face_vertex(word, &counts).map_err(at)?;
+                    let (has_texcoord, has_normal) = face_vertex(word, &counts).map_err(at)?;
                     scan.every_face_vertex_has_normal &= has_normal;
+                    if has_texcoord { &mut with_vt } else { &mut without_vt }.get_or_insert(i + 1);
                     corners += 1;
                 }
                 if corners < 3 {
                     return Err(at(format!("face has {corners} vertices; a face needs at least 3")));
                 }
                 scan.triangles += corners - 2;
+                match (with_vt, without_vt) {
+                    (Some(with), Some(without)) if with == without => {
+                        return Err(at("face has vertices with and without a texture coordinate (`vt`); \
+                                       give every face vertex a `vt` or none"
+                            .into()))
+                    }
+                    (Some(with), Some(without)) => {
+                        return Err(ScanError {
+                            line: without,
+                            rule: format!(
+                                "face has vertices without a texture coordinate (`vt`) but the face on \
+                                 line {with} has them; give every face vertex a `vt` or none"
+                            ),
+                        })
+                    }
+                    _ => {}
+                }
             }
             // tobj reads `l` like `f` (so a three-point line would become a triangle) and fails on
             // a `usemtl` without a name: `clean` blanks such lines, they mean nothing to us.
             Some("l") => scan.needs_cleaning = true,
-            Some("usemtl") if usemtl_name(line).is_empty() => scan.needs_cleaning = true,
+            Some("usemtl") => {
+                scan.needs_cleaning |= usemtl_name(line).is_empty();
+                // The name as the materials read it: the rest of the line after the keyword.
+                let name = line.trim_start().strip_prefix("usemtl").map_or("", str::trim).to_owned();
+                scan.uses.push(UseMtl { line: i + 1, name, first_triangle: scan.triangles });
+            }
+            Some("mtllib") => {
+                scan.libraries.push(MtlLib { line: i + 1, names: words.map(str::to_owned).collect() })
+            }
             _ => {}
         }
     }
+    scan.texcoords = with_vt.is_some();
     Ok(scan)
 }
 
@@ -270,8 +366,8 @@ fn number(word: &str, record: &str) -> Result<f32, String> {
     word.parse().map_err(|_| format!("malformed number `{}` in `{record}` record", shown(word)))
 }
 
-/// Checks one face vertex `v[/vt][/vn]`; true when it names a normal.
-fn face_vertex(word: &str, counts: &Counts) -> Result<bool, String> {
+/// Checks one face vertex `v[/vt][/vn]`; whether it names a texture coordinate and a normal.
+fn face_vertex(word: &str, counts: &Counts) -> Result<(bool, bool), String> {
     let mut parts = word.split('/');
     let kinds = [
         ("face index", "vertices (`v`)", counts.v),
@@ -305,7 +401,7 @@ fn face_vertex(word: &str, counts: &Counts) -> Result<bool, String> {
     if parts.any(|extra| !extra.is_empty()) {
         return Err(format!("face vertex `{}` has more than 3 indices (v/vt/vn)", shown(word)));
     }
-    Ok(named[2])
+    Ok((named[1], named[2]))
 }
 
 /// The material name of a `usemtl` line exactly as tobj finds it: after the first space.
@@ -315,8 +411,8 @@ fn usemtl_name(line: &str) -> &str {
 
 /// The text with records tobj would misread made harmless, line for line (so tobj's line
 /// structure, and any line number, stays the same): `l` lines and nameless `usemtl` lines
-/// become empty, and `v` records lose their `r g b` colour (tobj fails when only some vertices
-/// have one).
+/// become empty, `v` records lose their `r g b` colour (tobj fails when only some vertices
+/// have one), and `vt u` becomes `vt u 0` (tobj needs two numbers).
 fn clean(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for line in text.lines() {
@@ -329,6 +425,16 @@ fn clean(text: &str) -> String {
                 if values.len() == 6 {
                     out.push_str("v ");
                     out.push_str(&values[..3].join(" "));
+                } else {
+                    out.push_str(line);
+                }
+            }
+            Some("vt") => {
+                let values: Vec<&str> = words.collect();
+                if let [u] = values[..] {
+                    out.push_str("vt ");
+                    out.push_str(u);
+                    out.push_str(" 0");
                 } else {
                     out.push_str(line);
                 }
@@ -456,7 +562,65 @@ mod tests {
         assert_invalid(&format!("{SQUARE}f 1 2 /1/1\n"), 5, "face vertex `/1/1` has no position index");
         assert_invalid(&format!("{SQUARE}vt 0 0\nvn 0 0 1\nf 1 2 3/1/1/1\n"), 7, "more than 3 indices");
         assert_invalid(&format!("{SQUARE}vn 0 0 one\n"), 5, "malformed number `one` in `vn` record");
-        assert_invalid(&format!("{SQUARE}vt 0\n"), 5, "`vt` needs at least 2 numbers, got 1");
+        assert_invalid(&format!("{SQUARE}vt\n"), 5, "`vt` takes u, then optionally v and w; got 0 values");
+        assert_invalid(
+            &format!("{SQUARE}vt 0 0 0 0\n"),
+            5,
+            "`vt` takes u, then optionally v and w; got 4 values",
+        );
+        assert_invalid(&format!("{SQUARE}vt 0 x\n"), 5, "malformed number `x` in `vt` record");
+        assert_invalid(&format!("{SQUARE}vt 0.5 0.5 w\n"), 5, "malformed number `w` in `vt` record");
+        assert_invalid(&format!("{SQUARE}vt 0\nvt nan 0\n"), 6, "non-finite component `nan` in `vt` record");
+        assert_invalid(&format!("{SQUARE}vt 1e39\n"), 5, "non-finite component `1e39` in `vt` record");
+    }
+
+    #[test]
+    fn texture_coordinates_line_up_with_positions_after_triangulation() {
+        // A quad whose corners name the `vt`s in another order, with 1-, 2- and 3-number records.
+        let text = format!("{SQUARE}vt 0.25\nvt 0.5 0.75 0.125\nvt 1 0.5\nvt 0 1\nf 1/3 2/1 3/4 4/2\n");
+        let mesh = parse(&text, true);
+        assert_eq!(mesh.indices, vec![[0, 1, 2], [0, 2, 3]]);
+        let (a, b, c, d) = (Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y);
+        assert_eq!(mesh.positions, [a, b, c, d]);
+        let expected = [Vec2::new(1.0, 0.5), Vec2::new(0.25, 0.0), Vec2::new(0.0, 1.0), Vec2::new(0.5, 0.75)];
+        assert_eq!(mesh.uvs, expected);
+
+        // Across objects, with normals; one position under two `vt`s in an object makes two vertices.
+        let text = format!(
+            "{SQUARE}vt 0 0\nvt 1 1\nvn 0 0 1\no a\nf 1/1/1 2/1/1 3/2/1\nf 1/2/1 3/2/1 4/1/1\ng b\nf 2/2 3/1 4/2\n"
+        );
+        let mesh = parse(&text, false);
+        assert_eq!((mesh.positions.len(), mesh.uvs.len()), (8, 8));
+        let corners: Vec<[(Vec3, Vec2); 3]> = mesh
+            .indices
+            .iter()
+            .map(|t| t.map(|i| (mesh.positions[i as usize], mesh.uvs[i as usize])))
+            .collect();
+        let (zero, one) = (Vec2::ZERO, Vec2::ONE);
+        assert_eq!(corners[0], [(a, zero), (b, zero), (c, one)]);
+        assert_eq!(corners[1], [(a, one), (c, one), (d, zero)]);
+        assert_eq!(corners[2], [(b, one), (c, zero), (d, one)]);
+    }
+
+    #[test]
+    fn a_file_without_face_texture_coordinates_has_empty_uvs() {
+        assert!(parse(&format!("{SQUARE}f 1 2 3 4\n"), true).uvs.is_empty());
+        // `vt` records no face names count for nothing.
+        assert!(parse(&format!("{SQUARE}vt 0 0\nvn 0 0 1\nf 1//1 2//1 3//1\n"), true).uvs.is_empty());
+    }
+
+    #[test]
+    fn faces_with_and_without_texture_coordinates_do_not_mix() {
+        let rule = "face has vertices without a texture coordinate (`vt`) but the face on line 6 has them";
+        assert_invalid(&format!("{SQUARE}vt 0 0\nf 1/1 2/1 3/1\nf 1 3 4\n"), 7, rule);
+        // The first face without one is named, also when it comes first.
+        let rule = "face has vertices without a texture coordinate (`vt`) but the face on line 8 has them";
+        assert_invalid(&format!("{SQUARE}vt 0 0\nf 1 2 3\nf 1 3 4\nf 1/1 3/1 4/1\n"), 6, rule);
+        assert_invalid(
+            &format!("{SQUARE}vt 0 0\nf 1/1 2 3/1\n"),
+            6,
+            "face has vertices with and without a texture coordinate (`vt`); give every face vertex a `vt` or none",
+        );
     }
 
     #[test]
@@ -544,6 +708,8 @@ mod tests {
                 0 => (String::new(), 0, 0, 0),
                 _ => ("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n".to_string(), 3, 1, 1),
             };
+            // Faces name a `vt` at every vertex or at none, except now and then.
+            let with_vt = next(2) == 0;
             for _ in 0..1 + next(16) {
                 let kind = kinds[next(kinds.len())];
                 doc.push_str(kind);
@@ -551,7 +717,7 @@ mod tests {
                     ("v" | "vn", 0) => next(8),
                     ("v", 1) => 6,
                     ("v" | "vn", _) => 3,
-                    ("vt", _) => 2,
+                    ("vt", _) => 1 + next(3),
                     ("f", 0) => next(3),
                     ("f", _) => 3 + next(3),
                     _ => next(4),
@@ -560,11 +726,13 @@ mod tests {
                     doc.push(' ');
                     if kind == "f" || kind == "l" {
                         doc.push_str(&index(v, &mut next));
-                        match next(8) {
-                            0 => doc.push_str(&format!("/{}", index(vt, &mut next))),
-                            1 => doc.push_str(&format!("//{}", index(vn, &mut next))),
-                            2 => doc.push_str(&format!("/{}/{}", index(vt, &mut next), index(vn, &mut next))),
-                            _ => {}
+                        match (with_vt != (next(50) == 0), next(4) == 0) {
+                            (true, false) => doc.push_str(&format!("/{}", index(vt, &mut next))),
+                            (false, true) => doc.push_str(&format!("//{}", index(vn, &mut next))),
+                            (true, true) => {
+                                doc.push_str(&format!("/{}/{}", index(vt, &mut next), index(vn, &mut next)))
+                            }
+                            (false, false) => {}
                         }
                     } else if next(100) == 0 {
                         doc.push_str(bad_numbers[next(bad_numbers.len())]);
@@ -599,6 +767,8 @@ mod tests {
                         assert!(mesh.indices.iter().flatten().all(|&i| i < n));
                         assert!(mesh.positions.iter().all(|p| p.is_finite()));
                         assert!(mesh.normals.iter().all(|n| n.is_finite()));
+                        assert!(mesh.uvs.is_empty() || mesh.uvs.len() == mesh.positions.len());
+                        assert!(mesh.uvs.iter().all(|uv| uv.is_finite()));
                     }
                     // The own checks must catch everything tobj would reject, at a line.
                     Err(e) => assert!(!e.to_string().contains("tobj"), "{e}"),

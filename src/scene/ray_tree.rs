@@ -93,7 +93,10 @@ pub fn ray_tree_warnings(desc: &SceneDesc) -> Vec<String> {
     for m in desc.materials.iter().filter(|m| used(m)) {
         let glossy = m.glossiness > 0.0;
         let first_bounce = if glossy { s.glossy.samples.max(1).div_ceil(spp) } else { 1 };
-        let rays = worst_case_rays(m.kr, m.kt, s.min_contribution, s.max_depth, first_bounce);
+        // Fresnel can move all of `kt` to the mirror (at grazing angles).
+        let kt = m.kt.max_element();
+        let kr = if m.fresnel { m.kr + kt } else { m.kr };
+        let rays = worst_case_rays(kr, kt, s.min_contribution, s.max_depth, first_bounce);
         if rays <= f64::from(s.max_secondary_rays) {
             continue;
         }
@@ -104,7 +107,7 @@ pub fn ray_tree_warnings(desc: &SceneDesc) -> Vec<String> {
             ),
             false => String::new(),
         };
-        let growth = match m.kr > 0.0 && m.kt > 0.0 {
+        let growth = match kr > 0.0 && kt > 0.0 {
             true => format!(", doubling at every bounce (about 2^{:.0})", rays.log2()),
             false => String::new(),
         };
@@ -115,7 +118,7 @@ pub fn ray_tree_warnings(desc: &SceneDesc) -> Vec<String> {
              max_secondary_rays",
             shown(&m.name),
             m.kr,
-            m.kt,
+            kt,
             s.min_contribution,
             s.max_depth,
             count(rays),

@@ -4,7 +4,7 @@
 
 use bevy_ecs::prelude::World;
 
-use super::format::{LightDesc, MaterialDesc, SamplingDesc, SceneDesc, ShapeDesc};
+use super::format::{LightDesc, SamplingDesc, SceneDesc, ShapeDesc};
 use super::mesh::MeshLibrary;
 use crate::accel::DEFAULT_LAMBDA;
 use crate::geom;
@@ -14,14 +14,14 @@ use crate::sample::warp::orthonormal_basis;
 use crate::store::{MaterialId, PrimitiveStore};
 use crate::trace::{self, AntiAliasing, Sampling};
 use crate::world::components::{Light, MaterialRef, Name, Shape, Transform, Visible, WorldAabb, WorldShape};
-use crate::world::resources::{CameraRig, Focus, FrameOrigin, Materials, MeshTable, SceneSettings};
+use crate::world::resources::{CameraRig, Focus, FrameOrigin, Materials, MeshTable, SceneSettings, Textures};
 use crate::world::SceneWorld;
 
 /// A World holding the scene: the caller has validated `desc` (see `super::load`).
 pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<S> {
     let mut world = World::new();
-    let materials = Materials {
-        table: desc.materials.iter().map(MaterialDesc::material).collect(),
+    let mut materials = Materials {
+        table: desc.materials.iter().map(|m| m.material(&desc.textures)).collect(),
         names: desc.materials.iter().map(|m| m.name.clone()).collect(),
     };
     let c = &desc.camera;
@@ -71,6 +71,7 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
         time: sampling(&c.time),
     });
 
+    let mut blocks = super::mesh_materials::MaterialBlocks::default();
     for (i, object) in desc.objects.iter().enumerate() {
         let Some(shape) = shape_in(&object.shape, &desc.meshes) else {
             // Only a description that `load_scene` did not load can name an unloaded mesh.
@@ -82,7 +83,20 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
         let placed = shape.place(&transform.to_affine(), c.position);
         let aabb = placed.bounds().unwrap_or(crate::math::Aabb::EMPTY);
         // Validation guarantees the material exists; an unknown name falls back to id 0.
-        let material = materials.id(&object.material).unwrap_or(MaterialId(0));
+        let material = match (&shape, object.shape.mesh_key()) {
+            // Faces drawn with the file's materials: the object's block of the table.
+            (geom::Shape::Mesh { mesh, .. }, Some((file, _, true))) => blocks.block(
+                *mesh,
+                file,
+                &desc.meshes.assets()[mesh.0 as usize].data.materials,
+                &object.material,
+                &desc.materials,
+                desc,
+                &mut materials.table,
+                &mut materials.names,
+            ),
+            _ => materials.id(&object.material).unwrap_or(MaterialId(0)),
+        };
         let name = object.name.clone().unwrap_or_else(|| format!("{}_{i}", object.shape.kind()));
         world.spawn((
             Name::new(name),
@@ -99,6 +113,10 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
     }
     world.insert_resource(FrameOrigin(c.position));
     world.insert_resource(materials);
+    world.insert_resource(Textures {
+        table: desc.texture_table.clone(),
+        names: desc.textures.iter().map(|t| t.name.clone()).collect(),
+    });
     world.insert_resource(MeshTable(desc.meshes.assets()));
     SceneWorld::new(world)
 }
@@ -107,8 +125,8 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
 /// the library has not loaded.
 pub fn shape_in(desc: &ShapeDesc, meshes: &MeshLibrary) -> Option<geom::Shape> {
     match desc {
-        ShapeDesc::Mesh { file, smooth } => {
-            let (id, asset) = meshes.get(file, *smooth)?;
+        ShapeDesc::Mesh { .. } => {
+            let (id, asset) = meshes.get_key(desc.mesh_key()?)?;
             Some(geom::Shape::Mesh { mesh: id, bounds: asset.data.bounds })
         }
         other => Some(shape_of(other)),
@@ -138,7 +156,7 @@ fn sampling(desc: &SamplingDesc) -> Sampling {
 /// anchor.
 pub fn light_of(desc: &LightDesc) -> Light {
     match *desc {
-        LightDesc::Rect { corner, edge_u, edge_v, colour, intensity, samples, pattern } => {
+        LightDesc::Rect { corner, edge_u, edge_v, colour, intensity, samples, pattern, falloff, visible } => {
             let source = trace::Light::Rect {
                 corner: Vec3::ZERO,
                 edge_u,
@@ -146,10 +164,12 @@ pub fn light_of(desc: &LightDesc) -> Light {
                 radiance: colour * intensity,
                 samples,
                 pattern,
+                falloff,
+                visible,
             };
             Light::at(corner, source)
         }
-        LightDesc::Disk { centre, normal, radius, colour, intensity, samples, pattern } => {
+        LightDesc::Disk { centre, normal, radius, colour, intensity, samples, pattern, falloff, visible } => {
             let (axis_u, axis_v) = orthonormal_basis(normal.normalize());
             let source = trace::Light::Disk {
                 centre: Vec3::ZERO,
@@ -159,11 +179,26 @@ pub fn light_of(desc: &LightDesc) -> Light {
                 radiance: colour * intensity,
                 samples,
                 pattern,
+                falloff,
+                visible,
             };
             Light::at(centre, source)
         }
-        LightDesc::Point { position, colour, intensity } => {
-            Light::at(position, trace::Light::Point { position: Vec3::ZERO, radiance: colour * intensity })
+        LightDesc::Point { position, colour, intensity, falloff } => Light::at(
+            position,
+            trace::Light::Point { position: Vec3::ZERO, radiance: colour * intensity, falloff },
+        ),
+        LightDesc::Spot { position, look_at, cone_deg, soft_deg, colour, intensity, falloff } => {
+            let soft = soft_deg.unwrap_or(DEFAULT_SPOT_SOFT_DEG.min(cone_deg));
+            let source = trace::Light::Spot {
+                position: Vec3::ZERO,
+                direction: (look_at - position).normalize().as_vec3(),
+                cos_inner: (cone_deg - soft).to_radians().cos(),
+                cos_outer: cone_deg.to_radians().cos(),
+                radiance: colour * intensity,
+                falloff,
+            };
+            Light::at(position, source)
         }
         LightDesc::Directional { direction, colour, intensity } => {
             let source =
@@ -172,3 +207,6 @@ pub fn light_of(desc: &LightDesc) -> Light {
         }
     }
 }
+
+/// Width of a spot light's soft edge when the scene gives none (at most the cone's half-angle).
+pub const DEFAULT_SPOT_SOFT_DEG: f32 = 5.0;

@@ -104,6 +104,11 @@ pub fn validate(scene: &SceneDesc) -> Check {
             return fail(&path, "name", rule);
         }
     }
+    for (i, material_desc) in scene.materials.iter().enumerate() {
+        let path = root.clone().field("materials").index(i);
+        super::texture::check_references(&path, material_desc, &scene.textures)?;
+    }
+    super::texture::check_textures(&root, &scene.textures)?;
     for (i, light_desc) in scene.lights.iter().enumerate() {
         light(&root.clone().field("lights").index(i), light_desc)?;
     }
@@ -318,23 +323,56 @@ fn material(path: &FieldPath, material: &MaterialDesc) -> Check {
         return fail(path, "shininess", format!("{}, got {got}", shininess_rule()));
     }
     unit_interval(path, "kr", material.kr)?;
-    unit_interval(path, "kt", material.kt)?;
+    let grey = material.kt.x == material.kt.y && material.kt.y == material.kt.z;
+    if grey {
+        unit_interval(path, "kt", material.kt.x)?;
+    } else {
+        finite_vec(path, "kt", material.kt)?;
+        if let Some((i, value)) = first_component(material.kt, |c| !(0.0..=1.0).contains(&c)) {
+            let rule = format!("must be in [0, 1] in every channel, got {} = {value}", CHANNELS[i]);
+            return fail(path, "kt", rule);
+        }
+    }
     // Allow for rounding in sums such as 0.08 + 0.92.
-    if material.kr + material.kt > 1.0 + 4.0 * f32::EPSILON {
-        let (kr, kt) = (material.kr, material.kt);
-        return fail(path, "kt", format!("`kr + kt` must be <= 1, got {kr} + {kt} = {}", kr + kt));
+    let kt = material.kt.max_element();
+    if material.kr + kt > 1.0 + 4.0 * f32::EPSILON {
+        let kr = material.kr;
+        let channel = if grey { String::new() } else { " in its largest channel".to_owned() };
+        return fail(path, "kt", format!("`kr + kt` must be <= 1{channel}, got {kr} + {kt} = {}", kr + kt));
     }
     finite(path, "ior", material.ior)?;
     if material.ior <= 0.0 {
         return fail(path, "ior", format!("must be > 0, got {}", material.ior));
     }
-    unit_interval(path, "glossiness", material.glossiness)
+    unit_interval(path, "glossiness", material.glossiness)?;
+    non_negative_channels(path, "emission", material.emission)?;
+    non_negative_channels(path, "absorption", material.absorption)?;
+    finite(path, "bump_depth", material.bump_depth)
 }
 
 fn light(path: &FieldPath, light: &LightDesc) -> Check {
     let (colour, intensity, samples) = match light {
-        LightDesc::Point { position, colour, intensity } => {
+        LightDesc::Point { position, colour, intensity, .. } => {
             self::position(path, "position", *position)?;
+            (colour, intensity, None)
+        }
+        LightDesc::Spot { position, look_at, cone_deg, soft_deg, colour, intensity, .. } => {
+            self::position(path, "position", *position)?;
+            self::position(path, "look_at", *look_at)?;
+            if look_at == position {
+                return fail(path, "look_at", "must differ from `position`".into());
+            }
+            finite(path, "cone_deg", *cone_deg)?;
+            if !(*cone_deg > 0.0 && *cone_deg <= 90.0) {
+                return fail(path, "cone_deg", format!("must be in (0, 90] degrees, got {cone_deg}"));
+            }
+            if let Some(soft) = soft_deg {
+                finite(path, "soft_deg", *soft)?;
+                if !(0.0..=*cone_deg).contains(soft) {
+                    let rule = format!("must be in [0, cone_deg] = [0, {cone_deg}] degrees, got {soft}");
+                    return fail(path, "soft_deg", rule);
+                }
+            }
             (colour, intensity, None)
         }
         LightDesc::Directional { direction, colour, intensity } => {
@@ -539,7 +577,7 @@ fn polygon(path: &FieldPath, vertices: &[DVec3]) -> Check {
 // ---------------------------------------------------------------------------------------
 
 /// A field name or a list index under a path.
-trait Child {
+pub(super) trait Child {
     fn under(self, path: &FieldPath) -> FieldPath;
 }
 
@@ -555,11 +593,11 @@ impl Child for usize {
     }
 }
 
-fn fail(path: &FieldPath, child: impl Child, rule: String) -> Check {
+pub(super) fn fail(path: &FieldPath, child: impl Child, rule: String) -> Check {
     Err(Violation { path: child.under(path), rule })
 }
 
-fn finite(path: &FieldPath, name: &str, value: f32) -> Check {
+pub(super) fn finite(path: &FieldPath, name: &str, value: f32) -> Check {
     match value.is_finite() {
         true => Ok(()),
         false => fail(path, name, format!("must be a finite number, got {value}")),
@@ -637,7 +675,7 @@ fn unit_interval(path: &FieldPath, name: &str, value: f32) -> Check {
     }
 }
 
-fn non_negative_channels(path: &FieldPath, name: &str, value: Vec3) -> Check {
+pub(super) fn non_negative_channels(path: &FieldPath, name: &str, value: Vec3) -> Check {
     finite_vec(path, name, value)?;
     match first_component(value, |c| c < 0.0) {
         None => Ok(()),
@@ -735,9 +773,16 @@ mod tests {
             ks: 0.0,
             shininess: 32.0,
             kr: 0.08,
-            kt: 0.92,
+            kt: Vec3::splat(0.92),
             ior: 1.5,
             glossiness: 0.0,
+            emission: Vec3::ZERO,
+            fresnel: false,
+            absorption: Vec3::ZERO,
+            kd_texture: None,
+            ks_texture: None,
+            bump_texture: None,
+            bump_depth: 0.01,
         };
         assert_eq!(self::material(&FieldPath::root(), &material), Ok(()));
     }

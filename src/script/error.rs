@@ -235,10 +235,11 @@ impl ScriptError {
 }
 
 /// What to write instead of an assignment Rhai cannot make; `at` is the source from the
-/// assigned expression on (`entity("ball").kd = …`).
+/// assigned expression on (`entity("ball").kd = …`, `texture("water").offset = …`).
 fn invalid_assignment(at: &str) -> String {
-    let call = at.starts_with("entity(").then(|| at.find(')')).flatten().map(|end| &at[..=end]);
-    let Some(call) = call else {
+    let opening = ["entity(", "texture("].into_iter().find(|f| at.starts_with(f));
+    let call = opening.zip(at.find(')')).map(|(opening, end)| (opening, &at[..=end]));
+    let Some((opening, call)) = call else {
         return "this expression cannot be assigned to: only a variable or a variable's property can \
                 be (`x = …`, `x.position = …`); put the value in a variable first"
             .into();
@@ -249,14 +250,18 @@ fn invalid_assignment(at: &str) -> String {
         .chars()
         .take_while(|c| c.is_alphanumeric() || *c == '_')
         .collect();
-    let name = call["entity(".len()..call.len() - 1].trim().trim_matches('"');
+    let name = call[opening.len()..call.len() - 1].trim().trim_matches('"');
     let variable = match name.chars().next().is_some_and(|c| c.is_alphabetic() || c == '_')
         && name.chars().all(|c| c.is_alphanumeric() || c == '_')
     {
         true => name.to_owned(),
-        false => "e".to_owned(),
+        false => opening[..1].to_owned(),
     };
-    let property = if property.is_empty() { "position".to_owned() } else { property };
+    let property = match (property.is_empty(), opening) {
+        (false, _) => property,
+        (true, "texture(") => "offset".to_owned(),
+        (true, _) => "position".to_owned(),
+    };
     format!(
         "`{call}.{property}` cannot be assigned to directly: Rhai writes only to a variable's \
          properties; write `let {variable} = {call}; {variable}.{property} = …;`"

@@ -1,5 +1,6 @@
-//! Rhai scripting: a sandboxed engine that drives the World's camera, objects, materials and
-//! settings frame by frame, for animations ([`animate`]) and parameter sweeps.
+//! Rhai scripting: a sandboxed engine that drives the World's camera, objects, materials,
+//! texture transforms and settings frame by frame, for animations ([`animate`]) and
+//! parameter sweeps.
 //!
 //! ```
 //! use penumbra::scene::{default_scene, spawn_world};
@@ -28,6 +29,7 @@ pub mod runtime;
 pub mod shutter;
 pub mod state;
 pub mod sweep;
+pub mod texture;
 
 pub use animate::{Animation, FrameRange};
 pub use engine::Limits;

@@ -8,7 +8,8 @@
 //! compares the two: every object whose transform differs gets a [`Motion`] with its pose at
 //! close, and a camera whose pose differs gets a [`ShutterCamera`]. Writes a script makes
 //! relative to the previous frame (`x += 1`) move an object once per call; for motion blur,
-//! write poses as functions of `t`. Lights, visibility and materials are those at shutter open.
+//! write poses as functions of `t`. Lights, visibility, materials and texture transforms are
+//! those at shutter open.
 
 use bevy_ecs::prelude::{Resource, World};
 

@@ -1,5 +1,5 @@
-//! The script's view of the World: a plain-data mirror of the camera, the render settings
-//! and every named entity, with a record of what the script wrote.
+//! The script's view of the World: a plain-data mirror of the camera, the render settings,
+//! every named entity and every texture's transform, with a record of what the script wrote.
 //!
 //! The mirror is taken from the World once, when the script is attached; from then on the
 //! script is the only writer, so reads come from the mirror and writes are exact (a value set
@@ -19,7 +19,9 @@ use crate::scene::format::LightDesc;
 use crate::store::MaterialId;
 use crate::trace::{self, Material};
 use crate::world::components::{Light, MaterialRef, Name, Shape, Transform, Visible};
-use crate::world::resources::{CameraRig, Focus, Materials, SceneSettings};
+use crate::world::resources::{CameraRig, Focus, Materials, SceneSettings, Textures};
+
+use super::texture::{apply_texture_writes, texture_states, TextureState};
 
 /// The mirror, shared between the engine's API functions and the World's input system.
 #[derive(Resource, Clone, Default)]
@@ -44,6 +46,8 @@ pub struct ScriptState {
     pub entities: Vec<EntityState>,
     /// Index of each entity by name.
     pub by_name: HashMap<String, usize>,
+    /// The scene's named textures' transforms, in table order.
+    pub textures: Vec<TextureState>,
     /// The frame being made.
     pub clock: Clock,
     /// The camera was written since the last apply.
@@ -194,8 +198,11 @@ pub struct EntityState {
     pub scale: DVec3,
     /// Whether it takes part in the frame.
     pub visible: bool,
-    /// Its material parameters (objects).
+    /// Its material parameters (objects; not meshes whose faces take their file's materials).
     pub material: Option<MaterialState>,
+    /// A mesh whose faces take their materials from its file (`materials: FromFile`): scripts
+    /// cannot set one material for it.
+    pub faces_own_materials: bool,
     /// Its colour and intensity (lights).
     pub light: Option<LightTerms>,
     /// Position or scale written since the last apply.
@@ -247,6 +254,24 @@ pub struct MaterialParams {
     pub ior: f64,
     /// Blur of reflection and refraction.
     pub glossiness: f64,
+    /// What scripts do not set, carried through unchanged: emission, Fresnel and textures.
+    pub fixed: FixedMaterialParts,
+}
+
+/// The parts of a material scripts leave as the scene gave them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FixedMaterialParts {
+    /// The colour of `kt` (its channels over the largest; white for grey glass): scripts set
+    /// `kt`'s strength, the tint stays.
+    pub kt_tint: Vec3,
+    /// Beer–Lambert absorption.
+    pub absorption: Vec3,
+    /// Emitted light.
+    pub emission: Vec3,
+    /// Schlick's Fresnel term on or off.
+    pub fresnel: bool,
+    /// Textures.
+    pub maps: crate::trace::material::Maps,
 }
 
 impl From<&Material> for MaterialParams {
@@ -256,9 +281,19 @@ impl From<&Material> for MaterialParams {
             ks: m.ks as f64,
             shininess: m.shininess as f64,
             kr: m.kr as f64,
-            kt: m.kt as f64,
+            kt: m.kt.max_element() as f64,
             ior: m.ior as f64,
             glossiness: m.glossiness as f64,
+            fixed: FixedMaterialParts {
+                kt_tint: match m.kt.max_element() {
+                    k if k > 0.0 && !(m.kt.x == m.kt.y && m.kt.y == m.kt.z) => m.kt / k,
+                    _ => Vec3::ONE,
+                },
+                emission: m.emission,
+                fresnel: m.fresnel,
+                absorption: m.absorption,
+                maps: m.maps,
+            },
         }
     }
 }
@@ -271,9 +306,13 @@ impl MaterialParams {
             ks: self.ks as f32,
             shininess: self.shininess as f32,
             kr: self.kr as f32,
-            kt: self.kt as f32,
+            kt: self.fixed.kt_tint * self.kt as f32,
             ior: self.ior as f32,
             glossiness: self.glossiness as f32,
+            emission: self.fixed.emission,
+            fresnel: self.fixed.fresnel,
+            absorption: self.fixed.absorption,
+            maps: self.fixed.maps,
         }
     }
 }
@@ -317,6 +356,7 @@ fn light_position(light: &Light) -> Option<DVec3> {
 fn light_radiance(light: &trace::Light) -> Vec3 {
     match *light {
         trace::Light::Point { radiance, .. }
+        | trace::Light::Spot { radiance, .. }
         | trace::Light::Directional { radiance, .. }
         | trace::Light::Rect { radiance, .. }
         | trace::Light::Disk { radiance, .. } => radiance,
@@ -328,6 +368,7 @@ fn relit(light: &trace::Light, to: Vec3) -> trace::Light {
     let mut relit = *light;
     match &mut relit {
         trace::Light::Point { radiance, .. }
+        | trace::Light::Spot { radiance, .. }
         | trace::Light::Directional { radiance, .. }
         | trace::Light::Rect { radiance, .. }
         | trace::Light::Disk { radiance, .. } => *radiance = to,
@@ -379,6 +420,7 @@ impl ScriptState {
                 max_secondary_rays: s.max_secondary_rays,
                 seed: s.seed,
             },
+            textures: world.get_resource::<Textures>().map(texture_states).unwrap_or_default(),
             ..Default::default()
         };
 
@@ -397,6 +439,7 @@ impl ScriptState {
                 scale: DVec3::ONE,
                 visible,
                 material: None,
+                faces_own_materials: false,
                 light: None,
                 transform_dirty: false,
                 rotation_written: false,
@@ -415,8 +458,16 @@ impl ScriptState {
                 entry.position = t.translation;
                 entry.rotation_deg = degrees_from_rotation(t.rotation);
                 entry.scale = t.scale.as_dvec3();
+                entry.faces_own_materials = match &shape.0 {
+                    geom::Shape::Mesh { mesh, .. } => world
+                        .get_resource::<crate::world::resources::MeshTable>()
+                        .and_then(|t| t.0.get(mesh.0 as usize))
+                        .is_some_and(|a| !a.data.face_material.is_empty()),
+                    _ => false,
+                };
                 entry.material = e
                     .get::<MaterialRef>()
+                    .filter(|_| !entry.faces_own_materials)
                     .and_then(|m| materials.get(m.0 .0 as usize))
                     .map(|m| MaterialState { params: MaterialParams::from(m), private: None });
             } else if let Some(light) = e.get::<Light>() {
@@ -444,6 +495,7 @@ impl ScriptState {
             let entry = &mut self.entities[index];
             let (colour, intensity) = match *desc {
                 LightDesc::Point { colour, intensity, .. }
+                | LightDesc::Spot { colour, intensity, .. }
                 | LightDesc::Directional { colour, intensity, .. }
                 | LightDesc::Rect { colour, intensity, .. }
                 | LightDesc::Disk { colour, intensity, .. } => (colour, intensity),
@@ -457,6 +509,11 @@ impl ScriptState {
     /// The entity called `name`.
     pub fn index_of(&self, name: &str) -> Option<usize> {
         self.by_name.get(name).copied()
+    }
+
+    /// The texture called `name`.
+    pub fn texture_index(&self, name: &str) -> Option<usize> {
+        self.textures.iter().position(|t| t.name == name)
     }
 
     /// The camera focus distance along the view direction, resolved as the renderer will.
@@ -507,10 +564,12 @@ pub fn apply_script_writes(
         Option<&mut Light>,
     )>,
     mut materials: ResMut<Materials>,
+    textures: Option<ResMut<Textures>>,
     mut rig: ResMut<CameraRig>,
     mut settings: ResMut<SceneSettings>,
 ) {
     let mut state = shared.lock();
+    apply_texture_writes(&mut state.textures, textures.map(Into::into));
     if state.camera_dirty || state.focus_follows_entity() {
         rig.set_if_neq(state.rig());
     }
@@ -635,6 +694,8 @@ mod tests {
             radiance: Vec3::ONE,
             samples: 4,
             pattern: crate::sample::Pattern::Grid,
+            falloff: Default::default(),
+            visible: false,
         };
         let rect = Light::at(DVec3::ZERO, rect);
         assert_eq!(light_position(&rect), Some(DVec3::new(1.0, 0.0, 0.5)));

@@ -252,9 +252,14 @@ impl PrimitiveStore for AosStore {
     #[inline]
     fn material(&self, hit: &Hit) -> MaterialId {
         if hit.object & super::UNBOUNDED_FLAG != 0 {
-            self.planes[(hit.object & !super::UNBOUNDED_FLAG) as usize].material
-        } else {
-            self.objects[hit.object as usize].material
+            return self.planes[(hit.object & !super::UNBOUNDED_FLAG) as usize].material;
+        }
+        let obj = &self.objects[hit.object as usize];
+        match &obj.shape {
+            AosShape::Instance { mesh, .. } => {
+                self.meshes[*mesh as usize].face_material(obj.material, hit.prim)
+            }
+            _ => obj.material,
         }
     }
 
@@ -276,6 +281,25 @@ impl PrimitiveStore for AosStore {
             }
             AosShape::Instance { to_object, mesh } => {
                 super::instance_surface(&self.meshes[*mesh as usize], to_object, hit, obj.material)
+            }
+        }
+    }
+
+    fn uv(&self, hit: &Hit, point: Vec3, origin: glam::DVec3) -> crate::geom::uv::SurfaceUv {
+        use crate::geom::uv;
+        if hit.object & super::UNBOUNDED_FLAG != 0 {
+            let p = &self.planes[(hit.object & !super::UNBOUNDED_FLAG) as usize];
+            return uv::planar(p.normal, point, origin);
+        }
+        let obj = &self.objects[hit.object as usize];
+        match &obj.shape {
+            AosShape::Sphere { centre, .. } => uv::sphere(*centre, point),
+            AosShape::Triangles { first, .. } => {
+                super::triangle_uv(self.triangles.vertices(first + hit.prim), point, origin)
+            }
+            AosShape::Cuboid { to_object, min, max } => super::cuboid_uv(to_object, *min, *max, hit, point),
+            AosShape::Instance { mesh, to_object } => {
+                super::instance_uv(&self.meshes[*mesh as usize], to_object, hit)
             }
         }
     }

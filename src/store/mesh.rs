@@ -9,7 +9,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use super::TriangleLayout;
+use super::{MaterialId, TriangleLayout};
 use crate::accel::{walk, GridBuilder, Tally, UniformGrid};
 use crate::geom::mesh::MeshData;
 use crate::geom::triangle::{self, nearest_in_block, TriangleBlock, TriangleHit, WatertightRay};
@@ -90,9 +90,19 @@ fn morton_order(data: &mut MeshData) {
         let q = ((c - b.min) * scale).clamp(Vec3::ZERO, Vec3::splat(1023.0));
         spread(q.x as u32) << 2 | spread(q.y as u32) << 1 | spread(q.z as u32)
     };
-    let mut keyed: Vec<(u32, [u32; 3])> = data.indices.iter().map(|f| (code(f), *f)).collect();
-    keyed.sort_by_key(|(k, _)| *k);
-    data.indices = keyed.into_iter().map(|(_, f)| f).collect();
+    // Per-face materials move with their faces.
+    let materials = std::mem::take(&mut data.face_material);
+    let mut keyed: Vec<(u32, [u32; 3], u32)> = data
+        .indices
+        .iter()
+        .enumerate()
+        .map(|(i, f)| (code(f), *f, materials.get(i).copied().unwrap_or(0)))
+        .collect();
+    keyed.sort_by_key(|&(k, ..)| k);
+    if !materials.is_empty() {
+        data.face_material = keyed.iter().map(|&(.., m)| m).collect();
+    }
+    data.indices = keyed.into_iter().map(|(_, f, _)| f).collect();
 }
 
 /// A mesh asset with its triangles in layout `L`.
@@ -105,6 +115,17 @@ pub struct MeshEntry<L: TriangleLayout> {
 }
 
 impl<L: TriangleLayout> MeshEntry<L> {
+    /// The material of triangle `prim` of an instance drawn with `base`: `base` itself, or, for
+    /// a mesh with its file's materials, `base` plus the triangle's index into them (the
+    /// instance's block of the material table).
+    #[inline]
+    pub fn face_material(&self, base: MaterialId, prim: u32) -> MaterialId {
+        match self.asset.data.face_material.get(prim as usize) {
+            Some(&i) => MaterialId(base.0 + i),
+            None => base,
+        }
+    }
+
     /// Lays out the asset's triangles.
     pub fn new(asset: Arc<MeshAsset>) -> Self {
         let triangles = L::from_mesh(&asset.data);

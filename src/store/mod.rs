@@ -25,8 +25,9 @@ pub use crate::accel::{NoTally, Tally};
 
 use crate::geom::mesh::MeshData;
 use crate::geom::triangle::{TriangleHit, WatertightRay};
+use crate::geom::uv::SurfaceUv;
 use crate::geom::Placed;
-use crate::math::{offset_origin, Ray, RayPacket, Vec3};
+use crate::math::{offset_origin, Ray, RayPacket, Vec2, Vec3};
 
 /// Index of a material in the snapshot's material table.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
@@ -257,6 +258,10 @@ pub trait PrimitiveStore: Send + Sync + Sized + std::fmt::Debug + 'static {
     fn material(&self, hit: &Hit) -> MaterialId;
     /// Position, normals and material at a hit.
     fn surface(&self, hit: &Hit, ray: &Ray) -> SurfacePoint;
+    /// Texture coordinates and their position derivatives at a hit whose surface point is
+    /// `point`, the camera being at `origin` in the world ([`crate::geom::uv`]). Asked only
+    /// where a texture is looked up.
+    fn uv(&self, hit: &Hit, point: Vec3, origin: glam::DVec3) -> SurfaceUv;
     /// Bytes held by the store's own arrays (shared mesh layouts excluded).
     fn memory_bytes(&self) -> usize;
     /// The mesh table the store was built with.
@@ -374,7 +379,47 @@ pub(crate) fn plane_surface(
     SurfacePoint { point, normal, shading: normal, lift: Vec3::ZERO, error, material }
 }
 
-/// The surface at a hit on a mesh instance.
+/// Texture coordinates at a hit on a mesh instance placed by `to_object`: the file's `vt`
+/// interpolated, or zero (and no derivatives) for a mesh without them.
+#[inline]
+pub(crate) fn instance_uv<L: TriangleLayout>(
+    mesh: &MeshEntry<L>,
+    to_object: &crate::math::Affine3A,
+    hit: &Hit,
+) -> SurfaceUv {
+    let data = &mesh.asset.data;
+    match data.indices.get(hit.prim as usize) {
+        Some(face) if !data.uvs.is_empty() => crate::geom::uv::triangle(
+            face.map(|i| data.positions[i as usize]),
+            face.map(|i| data.uvs[i as usize]),
+            hit.u,
+            hit.v,
+            &to_object.matrix3.inverse(),
+        ),
+        _ => SurfaceUv { uv: Vec2::ZERO, dpdu: Vec3::ZERO, dpdv: Vec3::ZERO },
+    }
+}
+
+/// Texture coordinates at a hit on a box face ([`cuboid_hit`]'s face code in `hit.prim`).
+#[inline]
+pub(crate) fn cuboid_uv(
+    to_object: &crate::math::Affine3A,
+    min: Vec3,
+    max: Vec3,
+    hit: &Hit,
+    point: Vec3,
+) -> SurfaceUv {
+    crate::geom::uv::cuboid(to_object, min, max, hit.prim, point)
+}
+
+/// Planar texture coordinates on a world-space triangle.
+#[inline]
+pub(crate) fn triangle_uv([a, b, c]: [Vec3; 3], point: Vec3, origin: glam::DVec3) -> SurfaceUv {
+    crate::geom::uv::planar(crate::geom::triangle::normal(a, b, c), point, origin)
+}
+
+/// The surface at a hit on a mesh instance drawn with `material` (the first of its block when
+/// the mesh has its file's materials).
 #[inline]
 pub(crate) fn instance_surface<L: TriangleLayout>(
     mesh: &MeshEntry<L>,
@@ -383,6 +428,8 @@ pub(crate) fn instance_surface<L: TriangleLayout>(
     material: MaterialId,
 ) -> SurfacePoint {
     let s = mesh::instance_surface(mesh, to_object, hit);
+    // A mesh with its file's materials: the triangle's own material in the instance's block.
+    let material = mesh.face_material(material, hit.prim);
     SurfacePoint {
         point: s.point,
         normal: s.geometric,

@@ -375,9 +375,15 @@ impl PrimitiveStore for SoaStore {
     #[inline]
     fn material(&self, hit: &Hit) -> MaterialId {
         if hit.object & super::UNBOUNDED_FLAG != 0 {
-            self.plane_material[(hit.object & !super::UNBOUNDED_FLAG) as usize]
-        } else {
-            self.material[hit.object as usize]
+            return self.plane_material[(hit.object & !super::UNBOUNDED_FLAG) as usize];
+        }
+        let o = hit.object as usize;
+        match self.kind[o] {
+            Kind::Instance => {
+                let mesh = &self.meshes[self.instance_mesh[self.first[o] as usize] as usize];
+                mesh.face_material(self.material[o], hit.prim)
+            }
+            _ => self.material[o],
         }
     }
 
@@ -409,6 +415,34 @@ impl PrimitiveStore for SoaStore {
                 let mesh = &self.meshes[self.instance_mesh[first] as usize];
                 super::instance_surface(mesh, &self.instance_to_object.get(first), hit, material)
             }
+        }
+    }
+
+    fn uv(&self, hit: &Hit, point: Vec3, origin: glam::DVec3) -> crate::geom::uv::SurfaceUv {
+        use crate::geom::uv;
+        if hit.object & super::UNBOUNDED_FLAG != 0 {
+            let i = (hit.object & !super::UNBOUNDED_FLAG) as usize;
+            return uv::planar(self.plane_normal.get(i), point, origin);
+        }
+        let o = hit.object as usize;
+        let first = self.first[o] as usize;
+        match self.kind[o] {
+            Kind::Sphere => uv::sphere(self.centre.get(first), point),
+            Kind::Triangles => {
+                super::triangle_uv(self.triangles.vertices(first as u32 + hit.prim), point, origin)
+            }
+            Kind::Cuboid => super::cuboid_uv(
+                &self.box_to_object.get(first),
+                self.box_min.get(first),
+                self.box_max.get(first),
+                hit,
+                point,
+            ),
+            Kind::Instance => super::instance_uv(
+                &self.meshes[self.instance_mesh[first] as usize],
+                &self.instance_to_object.get(first),
+                hit,
+            ),
         }
     }
 

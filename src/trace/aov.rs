@@ -66,7 +66,7 @@ fn probe<S: PrimitiveStore>(scene: &TraceScene<S>, settings: &RenderSettings, x:
     Probe {
         depth: hit.t * ray.dir.dot(scene.camera.forward),
         normal,
-        albedo: scene.material(sp.material).kd,
+        albedo: scene.material_at(scene.material(sp.material), &hit, sp.point, 0.0).kd,
         object: object_index(scene, hit.object) + 1,
     }
 }

@@ -23,6 +23,10 @@ pub struct Effects {
     pub lens: bool,
     /// Something moves while the shutter is open (motion blur): camera samples carry a time.
     pub motion: bool,
+    /// Some area light is visible to camera, reflection and refraction rays.
+    pub visible_lights: bool,
+    /// Some material has a texture.
+    pub textures: bool,
 }
 
 impl Effects {
@@ -36,6 +40,8 @@ impl Effects {
             (self.area_lights, "area_lights"),
             (self.lens, "lens"),
             (self.motion, "motion"),
+            (self.visible_lights, "visible_lights"),
+            (self.textures, "textures"),
         ]
         .iter()
         .filter_map(|&(on, name)| on.then_some(name))
@@ -46,13 +52,15 @@ impl Effects {
     pub fn of(materials: &[Material], lights: &[Light], camera: &Camera) -> Self {
         let any = |f: fn(&Material) -> bool| materials.iter().any(f);
         Self {
-            reflection: any(|m| m.kr > 0.0 && m.glossiness == 0.0),
-            glossy: any(|m| m.kr > 0.0 && m.glossiness > 0.0),
-            transmission: any(|m| m.kt > 0.0),
-            blurry: any(|m| m.kt > 0.0 && m.glossiness > 0.0),
+            reflection: any(|m| m.reflects() && m.glossiness == 0.0),
+            glossy: any(|m| m.reflects() && m.glossiness > 0.0),
+            transmission: any(|m| m.transmits()),
+            blurry: any(|m| m.transmits() && m.glossiness > 0.0),
             area_lights: lights.iter().any(Light::is_area),
             lens: camera.has_lens(),
             motion: false,
+            visible_lights: lights.iter().any(Light::is_visible),
+            textures: any(|m| !m.maps.is_empty()),
         }
     }
 }

@@ -122,7 +122,8 @@ impl Nearest {
 }
 
 /// Fraction of light that passes along `ray` over `(0, t_max)` (`t` in units of the direction's
-/// length, which may be any): 0 behind an opaque object, the product of `kt` over every surface
+/// length, which may be any), per colour channel: 0 behind an opaque object, the product of
+/// `kt` over every surface
 /// crossed otherwise (planes first, then each object's crossings nearest first, the objects in
 /// ascending id: [`ordered_product`]). Counts nothing; see
 /// [`transmittance_tallied`] for the traversal statistics.
@@ -131,7 +132,7 @@ impl Nearest {
 /// `(0, t_max)` are counted then, and a per-ray list of visited ids skips it in later cells.
 /// Counting a crossing in "the cell whose t-range holds it" is not enough: a crossing exactly on
 /// a wall, or rounded across one, can land in a span whose cell does not store the object.
-pub fn transmittance<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max: f32) -> f32 {
+pub fn transmittance<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max: f32) -> Vec3 {
     transmittance_tallied(scene, ray, t_max, &mut NoTally)
 }
 
@@ -143,7 +144,7 @@ pub fn transmittance_tallied<S: PrimitiveStore, T: Tally>(
     ray: &Ray,
     t_max: f32,
     tally: &mut T,
-) -> f32 {
+) -> Vec3 {
     transmittance_at(scene, ray, t_max, 0.0, tally)
 }
 
@@ -156,10 +157,10 @@ pub fn transmittance_at<S: PrimitiveStore, T: Tally>(
     t_max: f32,
     s: f32,
     tally: &mut T,
-) -> f32 {
+) -> Vec3 {
     let pass = static_transmittance(scene, ray, t_max, tally);
     match &scene.motion {
-        Some(motion) if pass > 0.0 => {
+        Some(motion) if pass != Vec3::ZERO => {
             let kt = |m| scene.material(m).kt;
             let opaque = !scene.effects.transmission;
             pass * motion.transmittance(scene.store.meshes(), ray, t_max, s, opaque, kt, tally)
@@ -174,11 +175,11 @@ fn static_transmittance<S: PrimitiveStore, T: Tally>(
     ray: &Ray,
     t_max: f32,
     tally: &mut T,
-) -> f32 {
+) -> Vec3 {
     let store = &scene.store;
     let pass = planes_transmittance(scene, ray, t_max, tally);
-    if pass == 0.0 {
-        return 0.0;
+    if pass == Vec3::ZERO {
+        return Vec3::ZERO;
     }
     let grid = &scene.grid;
     if !scene.effects.transmission {
@@ -186,19 +187,19 @@ fn static_transmittance<S: PrimitiveStore, T: Tally>(
         let blocked = walk::any(grid, ray, 0.0, t_max, tally, |id, tally| {
             store.occludes_bounded(id, ray, 0.0, t_max, tally)
         });
-        return if blocked { 0.0 } else { pass };
+        return if blocked { Vec3::ZERO } else { pass };
     }
-    let mut shares: Vec<(u32, f32)> = Vec::new();
+    let mut shares: Vec<(u32, Vec3)> = Vec::new();
     let blocked = walk::any(grid, ray, 0.0, t_max, tally, |id, tally| {
         if shares.iter().any(|&(seen, _)| seen == id) {
             return false;
         }
         let share = object_transmittance(scene, id, ray, t_max, tally);
         shares.push((id, share));
-        share == 0.0
+        share == Vec3::ZERO
     });
     if blocked {
-        0.0
+        Vec3::ZERO
     } else {
         ordered_product(pass, &mut shares)
     }
@@ -213,15 +214,15 @@ pub(crate) fn planes_transmittance<S: PrimitiveStore, T: Tally>(
     ray: &Ray,
     t_max: f32,
     tally: &mut T,
-) -> f32 {
+) -> Vec3 {
     let store = &scene.store;
-    let mut pass = 1.0f32;
+    let mut pass = Vec3::ONE;
     for i in 0..store.unbounded_count() {
         tally.tests(1);
         if let Some(h) = store.intersect_unbounded(i, ray, 0.0, t_max) {
             pass *= scene.material(store.material(&h)).kt;
-            if !scene.effects.transmission || pass == 0.0 {
-                return 0.0;
+            if !scene.effects.transmission || pass == Vec3::ZERO {
+                return Vec3::ZERO;
             }
         }
     }
@@ -237,14 +238,14 @@ pub(crate) fn object_transmittance<S: PrimitiveStore, T: Tally>(
     ray: &Ray,
     t_max: f32,
     tally: &mut T,
-) -> f32 {
+) -> Vec3 {
     let store = &scene.store;
-    let mut share = 1.0f32;
+    let mut share = Vec3::ONE;
     let mut t_lo = 0.0;
     while let Some(h) = store.intersect_bounded(id, ray, t_lo, t_max, tally) {
         share *= scene.material(store.material(&h)).kt;
-        if share == 0.0 {
-            return 0.0;
+        if share == Vec3::ZERO {
+            return Vec3::ZERO;
         }
         t_lo = h.t;
     }
@@ -256,7 +257,7 @@ pub(crate) fn object_transmittance<S: PrimitiveStore, T: Tally>(
 /// found, so a single ray's walk and a packet's (which meets objects in another order) give the
 /// same bits. Sorts `shares` (ids are distinct).
 #[inline]
-pub(crate) fn ordered_product(pass: f32, shares: &mut [(u32, f32)]) -> f32 {
+pub(crate) fn ordered_product(pass: Vec3, shares: &mut [(u32, Vec3)]) -> Vec3 {
     shares.sort_unstable_by_key(|&(id, _)| id);
     shares.iter().fold(pass, |pass, &(_, share)| pass * share)
 }
@@ -365,7 +366,7 @@ pub struct PathContext<'a> {
 pub const HINTED_LIGHTS: usize = 4;
 
 /// Per light (by index), the transmittance of a shading point's shadow ray, where known.
-pub type ShadowHint = [Option<f32>; HINTED_LIGHTS];
+pub type ShadowHint = [Option<Vec3>; HINTED_LIGHTS];
 
 /// First dimension of a path's stream; the ones below belong to the pixel's own patterns
 /// (sub-pixel position, lens).
@@ -520,6 +521,14 @@ pub fn radiance_at<S: PrimitiveStore>(
     ctx: &mut PathContext<'_>,
 ) -> Vec3 {
     ctx.rays.traversal.record(cost);
+    if scene.effects.visible_lights {
+        if let Some(seen) = visible_light(scene, ray, found.map_or(f32::INFINITY, |h| h.t)) {
+            // A light in front of the hit: what a packet prepared for the hit is not needed.
+            ctx.surface_hint = None;
+            ctx.shadow_hint = None;
+            return seen;
+        }
+    }
     let Some(hit) = found else {
         return scene.background;
     };
@@ -527,29 +536,47 @@ pub fn radiance_at<S: PrimitiveStore>(
         Some(shading) => shading,
         None => ShadingPoint::new(scene.surface(&hit, ray, ctx.time), ray.dir),
     };
-    let m = *scene.material(sp.material);
+    let (m, ns) = match scene.shade_at(scene.material(sp.material), &hit, sp.point, ns, ctx.time) {
+        // A bump may not tilt the normal away from the viewer.
+        (m, bumped) if bumped.dot(ray.dir) < 0.0 => (m, bumped),
+        (m, _) => (m, ns),
+    };
     let surface = Surface { point: sp.point, normal: ns, above, eps: sp.error };
     let mut colour = scene.ambient * m.kd + direct_light(scene, &m, &surface, -ray.dir, ctx);
-
-    if depth >= ctx.max_depth {
-        return colour;
+    if m.emission != Vec3::ZERO {
+        colour += m.emission;
     }
+
+    // Beer–Lambert: light reaching a surface from inside its material lost some on the way.
+    let absorbed = |colour: Vec3| match entering || m.absorption == Vec3::ZERO {
+        true => colour,
+        false => colour * (-m.absorption * (hit.t * ray.dir.length())).exp(),
+    };
+    if depth >= ctx.max_depth {
+        return absorbed(colour);
+    }
+    let (kr, kt) = if m.fresnel {
+        m.fresnel_split((-ray.dir.dot(ns) / ray.dir.length()).clamp(0.0, 1.0), entering)
+    } else {
+        (m.kr, m.kt)
+    };
     // The refraction's rays are set aside while the reflection's tree is traced.
-    let refracts = m.kt > 0.0 && weight * m.kt >= ctx.min_contribution;
+    let kt_max = kt.max_element();
+    let refracts = kt_max > 0.0 && weight * kt_max >= ctx.min_contribution;
     let pending = match (refracts, m.glossiness > 0.0) {
         (false, _) => 0,
         (true, false) => 1,
         (true, true) => ctx.cone_rays(depth),
     };
     // Mirror or glossy reflection.
-    if m.kr > 0.0 && weight * m.kr >= ctx.min_contribution {
+    if kr > 0.0 && weight * kr >= ctx.min_contribution {
         ctx.budget.reserve(pending);
         let mirror = match reflect(ray.dir, ns) {
             r if r.dot(n) > 0.0 => r,
             _ => reflect(ray.dir, n),
         };
         if m.glossiness > 0.0 {
-            colour += m.kr
+            colour += kr
                 * scatter(
                     scene,
                     surface.above,
@@ -557,13 +584,13 @@ pub fn radiance_at<S: PrimitiveStore>(
                     n,
                     m.glossiness,
                     depth,
-                    weight * m.kr,
+                    weight * kr,
                     Scatter::Glossy,
                     ctx,
                 );
         } else if ctx.budget.grant() {
             ctx.rays.reflection += 1;
-            colour += m.kr * radiance(scene, &Ray::new(surface.above, mirror), depth + 1, weight * m.kr, ctx);
+            colour += kr * radiance(scene, &Ray::new(surface.above, mirror), depth + 1, weight * kr, ctx);
         }
         ctx.budget.release(pending);
     }
@@ -576,14 +603,36 @@ pub fn radiance_at<S: PrimitiveStore>(
             None => (surface.above, reflect(ray.dir, n), n),
         };
         if m.glossiness > 0.0 {
-            colour += m.kt
-                * scatter(scene, origin, dir, side, m.glossiness, depth, weight * m.kt, Scatter::Blurry, ctx);
+            colour += kt
+                * scatter(
+                    scene,
+                    origin,
+                    dir,
+                    side,
+                    m.glossiness,
+                    depth,
+                    weight * kt_max,
+                    Scatter::Blurry,
+                    ctx,
+                );
         } else if ctx.budget.grant() {
             ctx.rays.refraction += 1;
-            colour += m.kt * radiance(scene, &Ray::new(origin, dir), depth + 1, weight * m.kt, ctx);
+            colour += kt * radiance(scene, &Ray::new(origin, dir), depth + 1, weight * kt_max, ctx);
         }
     }
-    colour
+    absorbed(colour)
+}
+
+/// The nearest visible light along `ray` in `(0, t_max)` and the radiance seen there.
+#[inline]
+fn visible_light<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max: f32) -> Option<Vec3> {
+    let mut nearest = (t_max, None);
+    for light in scene.lights.iter().filter(|l| l.is_visible()) {
+        if let Some((t, radiance)) = light.hit(ray, nearest.0) {
+            nearest = (t, Some(radiance));
+        }
+    }
+    nearest.1
 }
 
 /// The normals a hit is shaded with, turned towards the incoming direction `dir`: whether the

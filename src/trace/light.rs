@@ -3,23 +3,67 @@
 //! Point and directional lights are sampled once per shading point. Area lights (a
 //! parallelogram or a disk) take `samples` points per pixel with their own pattern, shared
 //! among the pixel's camera samples; shading averages the Phong terms and the visibility over
-//! those points (each a point light with the light's radiance). Area lights are not visible
-//! to camera rays.
+//! those points (each a point light with the light's radiance). Area lights are invisible to
+//! camera, reflection and refraction rays unless `visible` ([`Light::hit`]), and then they show
+//! their radiance; lights never cast shadows on each other.
+//!
+//! Light from point, spot and area lights can fall off with the square of the distance
+//! ([`Falloff`]); without it (the default, as in classic Phong and POV-Ray) it does not.
 
 use super::finite::clamp_radiance;
-use crate::math::{unit_and_length, Vec2, Vec3};
+use crate::math::{unit_and_length, Ray, Vec2, Vec3};
 use crate::sample::pattern::{disk_point, square_point};
 use crate::sample::Pattern;
+
+/// How the light from a light source weakens with distance.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
+pub enum Falloff {
+    /// It does not: every point receives the light's radiance (classic Phong, POV-Ray).
+    #[default]
+    None,
+    /// Physical falloff: the radiance divided by the squared distance, so `colour ×
+    /// intensity` is what arrives one unit away.
+    InverseSquare,
+}
+
+impl Falloff {
+    /// `radiance` as it arrives `dist` away (at most `f32::MAX` per channel).
+    #[inline]
+    pub fn apply(self, radiance: Vec3, dist: f32) -> Vec3 {
+        match self {
+            Falloff::None => radiance,
+            Falloff::InverseSquare => clamp_radiance(radiance / (dist * dist)),
+        }
+    }
+}
 
 /// A light source.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Light {
-    /// Point light without distance falloff.
+    /// Point light.
     Point {
         /// Position.
         position: Vec3,
         /// Colour × intensity.
         radiance: Vec3,
+        /// Distance falloff.
+        falloff: Falloff,
+    },
+    /// A point light shining into a cone around `direction`, full inside `cos_inner` and
+    /// fading smoothly to nothing at `cos_outer`.
+    Spot {
+        /// Position.
+        position: Vec3,
+        /// Unit direction the cone's axis points in.
+        direction: Vec3,
+        /// Cosine of the half-angle inside which the light is full.
+        cos_inner: f32,
+        /// Cosine of the half-angle outside which there is no light (≤ `cos_inner`).
+        cos_outer: f32,
+        /// Colour × intensity on the axis.
+        radiance: Vec3,
+        /// Distance falloff.
+        falloff: Falloff,
     },
     /// Light from infinitely far away.
     Directional {
@@ -42,6 +86,10 @@ pub enum Light {
         samples: u32,
         /// Placement of the samples.
         pattern: Pattern,
+        /// Distance falloff (each sample from its own point).
+        falloff: Falloff,
+        /// Whether camera, reflection and refraction rays see the light.
+        visible: bool,
     },
     /// A disk of `radius` around `centre`, spanned by the unit axes `axis_u`, `axis_v`.
     Disk {
@@ -59,6 +107,10 @@ pub enum Light {
         samples: u32,
         /// Placement of the samples.
         pattern: Pattern,
+        /// Distance falloff (each sample from its own point).
+        falloff: Falloff,
+        /// Whether camera, reflection and refraction rays see the light.
+        visible: bool,
     },
 }
 
@@ -67,7 +119,7 @@ impl Light {
     /// disk's centre; zero for directional lights.
     pub fn anchor(&self) -> Vec3 {
         match *self {
-            Light::Point { position, .. } => position,
+            Light::Point { position, .. } | Light::Spot { position, .. } => position,
             Light::Rect { corner, .. } => corner,
             Light::Disk { centre, .. } => centre,
             Light::Directional { .. } => Vec3::ZERO,
@@ -79,6 +131,7 @@ impl Light {
         let mut moved = *self;
         match &mut moved {
             Light::Point { position: p, .. }
+            | Light::Spot { position: p, .. }
             | Light::Rect { corner: p, .. }
             | Light::Disk { centre: p, .. } => *p += by,
             Light::Directional { .. } => {}
@@ -92,14 +145,18 @@ impl Light {
     #[inline]
     pub fn towards(&self, p: Vec3) -> (Vec3, f32, Vec3) {
         match *self {
-            Light::Point { position, radiance } => towards_point(p, position, radiance),
+            Light::Point { position, radiance, falloff } => towards_point(p, position, radiance, falloff),
+            Light::Spot { position, direction, cos_inner, cos_outer, radiance, falloff } => {
+                let (to_light, dist, arriving) = towards_point(p, position, radiance, falloff);
+                (to_light, dist, arriving * spot_factor(-to_light.dot(direction), cos_inner, cos_outer))
+            }
             Light::Directional { direction, radiance } => {
                 (-direction, f32::INFINITY, clamp_radiance(radiance))
             }
-            Light::Rect { corner, edge_u, edge_v, radiance, .. } => {
-                towards_point(p, corner + 0.5 * (edge_u + edge_v), radiance)
+            Light::Rect { corner, edge_u, edge_v, radiance, falloff, .. } => {
+                towards_point(p, corner + 0.5 * (edge_u + edge_v), radiance, falloff)
             }
-            Light::Disk { centre, radiance, .. } => towards_point(p, centre, radiance),
+            Light::Disk { centre, radiance, falloff, .. } => towards_point(p, centre, radiance, falloff),
         }
     }
 
@@ -125,36 +182,93 @@ impl Light {
     #[inline]
     pub fn sample(&self, p: Vec3, i: u32, u: Vec2) -> (Vec3, f32, Vec3) {
         match *self {
-            Light::Rect { corner, edge_u, edge_v, radiance, samples, pattern } => {
+            Light::Rect { corner, edge_u, edge_v, radiance, samples, pattern, falloff, .. } => {
                 let st = square_point(pattern, samples, i, u);
-                towards_point(p, corner + st.x * edge_u + st.y * edge_v, radiance)
+                towards_point(p, corner + st.x * edge_u + st.y * edge_v, radiance, falloff)
             }
-            Light::Disk { centre, axis_u, axis_v, radius, radiance, samples, pattern } => {
+            Light::Disk { centre, axis_u, axis_v, radius, radiance, samples, pattern, falloff, .. } => {
                 let d = disk_point(pattern, samples, i, u) * radius;
-                towards_point(p, centre + d.x * axis_u + d.y * axis_v, radiance)
+                towards_point(p, centre + d.x * axis_u + d.y * axis_v, radiance, falloff)
             }
             _ => self.towards(p),
         }
     }
+
+    /// True for an area light that camera, reflection and refraction rays see.
+    #[inline]
+    pub fn is_visible(&self) -> bool {
+        matches!(self, Light::Rect { visible: true, .. } | Light::Disk { visible: true, .. })
+    }
+
+    /// Where `ray` meets a visible light within `(0, t_max)` (`t` in units of the direction's
+    /// length), and the radiance it sees there: the light's colour × intensity, from either
+    /// side. `None` for lights that are not visible.
+    #[inline]
+    pub fn hit(&self, ray: &Ray, t_max: f32) -> Option<(f32, Vec3)> {
+        match *self {
+            Light::Rect { corner, edge_u, edge_v, radiance, visible: true, .. } => {
+                let n = edge_u.cross(edge_v);
+                let t = plane_t(ray, corner, n, t_max)?;
+                // q = s·edge_u + r·edge_v: s n = q × edge_v, r n = edge_u × q.
+                let q = ray.at(t) - corner;
+                let nn = n.dot(n);
+                let s = q.cross(edge_v).dot(n) / nn;
+                let r = edge_u.cross(q).dot(n) / nn;
+                ((0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&r)).then(|| (t, clamp_radiance(radiance)))
+            }
+            Light::Disk { centre, axis_u, axis_v, radius, radiance, visible: true, .. } => {
+                let t = plane_t(ray, centre, axis_u.cross(axis_v), t_max)?;
+                let q = ray.at(t) - centre;
+                (q.length_squared() <= radius * radius).then(|| (t, clamp_radiance(radiance)))
+            }
+            _ => None,
+        }
+    }
+}
+
+/// The ray parameter where `ray` crosses the plane through `p` with normal `n`, if that is in
+/// `(0, t_max)`; `None` for a ray parallel to the plane.
+#[inline]
+fn plane_t(ray: &Ray, p: Vec3, n: Vec3, t_max: f32) -> Option<f32> {
+    let denom = ray.dir.dot(n);
+    if denom == 0.0 {
+        return None;
+    }
+    let t = (p - ray.origin).dot(n) / denom;
+    (t > 0.0 && t < t_max).then_some(t)
+}
+
+/// How much of a spot light's radiance leaves in a direction whose cosine with the axis is
+/// `cos`: 1 inside the inner cone, 0 outside the outer one, a smoothstep between.
+#[inline]
+pub fn spot_factor(cos: f32, cos_inner: f32, cos_outer: f32) -> f32 {
+    if cos >= cos_inner {
+        return 1.0;
+    }
+    if cos <= cos_outer {
+        return 0.0;
+    }
+    let x = (cos - cos_outer) / (cos_inner - cos_outer);
+    x * x * (3.0 - 2.0 * x)
 }
 
 /// Below this distance to a light, `to / |to|` loses precision: [`unit_and_length`] takes over.
 const TINY_DISTANCE: f32 = 1e-18;
 
 /// Direction and distance from `p` to a point of a light, and the radiance arriving (at most
-/// `f32::MAX` per channel). Safe at any distance: far points (where `|to|²` overflows) and
+/// `f32::MAX` per channel, after `falloff`). Safe at any distance: far points (where `|to|²` overflows) and
 /// near ones (where it underflows) are handled on a scaled vector, and a light exactly at `p`
 /// gives a zero direction, which every caller skips as facing away.
 #[inline]
-fn towards_point(p: Vec3, position: Vec3, radiance: Vec3) -> (Vec3, f32, Vec3) {
+fn towards_point(p: Vec3, position: Vec3, radiance: Vec3, falloff: Falloff) -> (Vec3, f32, Vec3) {
     let to = position - p;
     let dist = to.length();
     let radiance = clamp_radiance(radiance);
     if dist.is_finite() && dist >= TINY_DISTANCE {
-        return (to / dist, dist, radiance);
+        return (to / dist, dist, falloff.apply(radiance, dist));
     }
     match unit_and_length(to) {
-        Some((dir, dist)) => (dir, dist, radiance),
+        Some((dir, dist)) => (dir, dist, falloff.apply(radiance, dist)),
         None => (Vec3::ZERO, 0.0, radiance),
     }
 }
@@ -166,22 +280,110 @@ mod tests {
     #[test]
     fn towards_a_point_is_finite_near_far_and_at_the_light() {
         let one = Vec3::ONE;
-        let (d, dist, _) = towards_point(Vec3::new(-1e30, 0.0, 0.0), Vec3::new(1e30, 0.0, 0.0), one);
+        let (d, dist, _) =
+            towards_point(Vec3::new(-1e30, 0.0, 0.0), Vec3::new(1e30, 0.0, 0.0), one, Falloff::None);
         assert_eq!((d, dist), (Vec3::X, 2e30));
-        let (d, dist, _) = towards_point(Vec3::ZERO, Vec3::new(0.0, 3e-25, 4e-25), one);
+        let (d, dist, _) = towards_point(Vec3::ZERO, Vec3::new(0.0, 3e-25, 4e-25), one, Falloff::None);
         assert!((d - Vec3::new(0.0, 0.6, 0.8)).length() < 1e-6 && (dist - 5e-25).abs() < 1e-30);
-        let (d, dist, _) = towards_point(Vec3::splat(1e7), Vec3::splat(1e7), one);
+        let (d, dist, _) = towards_point(Vec3::splat(1e7), Vec3::splat(1e7), one, Falloff::None);
         assert_eq!((d, dist), (Vec3::ZERO, 0.0));
         // An ordinary distance keeps the plain bits.
         let to = Vec3::new(1.0, 2.0, -2.5);
-        assert_eq!(towards_point(Vec3::ZERO, to, one).0, to / to.length());
+        assert_eq!(towards_point(Vec3::ZERO, to, one, Falloff::None).0, to / to.length());
     }
 
     #[test]
     fn radiance_beyond_the_largest_float_arrives_as_the_largest_float() {
-        let light = Light::Point { position: Vec3::Y, radiance: Vec3::new(f32::INFINITY, 3e38, 0.0) };
+        let light = Light::Point {
+            position: Vec3::Y,
+            radiance: Vec3::new(f32::INFINITY, 3e38, 0.0),
+            falloff: Falloff::None,
+        };
         assert_eq!(light.towards(Vec3::ZERO).2, Vec3::new(f32::MAX, 3e38, 0.0));
         let sun = Light::Directional { direction: -Vec3::Y, radiance: Vec3::splat(f32::INFINITY) };
         assert_eq!(sun.towards(Vec3::ZERO), (Vec3::Y, f32::INFINITY, Vec3::splat(f32::MAX)));
+    }
+
+    #[test]
+    fn inverse_square_falloff_matches_the_analytic_value_and_none_keeps_the_radiance() {
+        let radiance = Vec3::new(8.0, 4.0, 2.0);
+        for dist in [0.5f32, 1.0, 2.0, 3.0, 100.0] {
+            let light = Light::Point {
+                position: Vec3::new(0.0, dist, 0.0),
+                radiance,
+                falloff: Falloff::InverseSquare,
+            };
+            let (_, d, arriving) = light.towards(Vec3::ZERO);
+            assert_eq!(d, dist);
+            let expected = radiance / (dist * dist);
+            assert!((arriving - expected).abs().max_element() <= 1e-6 * expected.max_element(), "{dist}");
+            let plain =
+                Light::Point { position: Vec3::new(0.0, dist, 0.0), radiance, falloff: Falloff::None };
+            assert_eq!(plain.towards(Vec3::ZERO).2, radiance);
+        }
+    }
+
+    #[test]
+    fn a_spot_light_is_full_inside_its_inner_cone_dark_outside_and_smooth_between() {
+        let spot = Light::Spot {
+            position: Vec3::new(0.0, 10.0, 0.0),
+            direction: -Vec3::Y,
+            cos_inner: 20f32.to_radians().cos(),
+            cos_outer: 30f32.to_radians().cos(),
+            radiance: Vec3::ONE,
+            falloff: Falloff::None,
+        };
+        let at = |deg: f32| spot.towards(Vec3::new(10.0 * deg.to_radians().tan(), 0.0, 0.0)).2.x;
+        assert_eq!(at(0.0), 1.0);
+        assert_eq!(at(19.0), 1.0);
+        assert_eq!(at(31.0), 0.0);
+        let mid = at(25.0);
+        assert!(mid > 0.1 && mid < 0.9, "{mid}");
+        assert!(at(22.0) > mid && mid > at(28.0), "fades monotonically");
+        assert_eq!(spot_factor(0.5, 0.8, 0.2), 0.5, "the smoothstep's middle");
+    }
+
+    #[test]
+    fn a_visible_rect_or_disk_is_hit_inside_and_missed_outside_and_invisible_ones_never() {
+        let rect = Light::Rect {
+            corner: Vec3::new(-1.0, 2.0, -0.5),
+            edge_u: Vec3::new(2.0, 0.0, 0.0),
+            edge_v: Vec3::new(0.0, 0.0, 1.0),
+            radiance: Vec3::new(3.0, 2.0, 1.0),
+            samples: 4,
+            pattern: Pattern::Jittered,
+            falloff: Falloff::None,
+            visible: true,
+        };
+        let up = |x: f32, z: f32| Ray::new(Vec3::new(x, 0.0, z), Vec3::Y);
+        assert_eq!(rect.hit(&up(0.0, 0.0), f32::INFINITY), Some((2.0, Vec3::new(3.0, 2.0, 1.0))));
+        assert_eq!(rect.hit(&up(0.99, 0.49), f32::INFINITY).map(|h| h.0), Some(2.0));
+        assert_eq!(rect.hit(&up(1.01, 0.0), f32::INFINITY), None);
+        assert_eq!(rect.hit(&up(0.0, 0.51), f32::INFINITY), None);
+        assert_eq!(rect.hit(&up(0.0, 0.0), 1.5), None, "beyond t_max");
+        assert_eq!(rect.hit(&Ray::new(Vec3::new(0.0, 3.0, 0.0), Vec3::Y), f32::INFINITY), None, "behind");
+        // Seen from above too, and with a direction of another length (t in its units).
+        assert_eq!(
+            rect.hit(&Ray::new(Vec3::new(0.0, 6.0, 0.0), -4.0 * Vec3::Y), f32::INFINITY).map(|h| h.0),
+            Some(1.0)
+        );
+        let mut hidden = rect;
+        if let Light::Rect { visible, .. } = &mut hidden {
+            *visible = false;
+        }
+        assert_eq!(hidden.hit(&up(0.0, 0.0), f32::INFINITY), None);
+        let disk = Light::Disk {
+            centre: Vec3::new(0.0, 2.0, 0.0),
+            axis_u: Vec3::X,
+            axis_v: Vec3::Z,
+            radius: 0.5,
+            radiance: Vec3::ONE,
+            samples: 4,
+            pattern: Pattern::Jittered,
+            falloff: Falloff::None,
+            visible: true,
+        };
+        assert_eq!(disk.hit(&up(0.3, 0.3), f32::INFINITY).map(|h| h.0), Some(2.0));
+        assert_eq!(disk.hit(&up(0.4, 0.4), f32::INFINITY), None, "inside the square, outside the disk");
     }
 }

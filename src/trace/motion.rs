@@ -23,8 +23,8 @@ use crate::camera::Camera;
 use crate::geom::{self, Placed, Shape};
 use crate::math::{Aabb, Quat, Ray, Vec3};
 use crate::store::{
-    cuboid_hit, cuboid_surface, instance_surface, mesh, plane_surface, sphere_surface, triangle_surface, Hit,
-    MaterialId, MeshEntry, SurfacePoint, TriangleLayout,
+    cuboid_hit, cuboid_surface, cuboid_uv, instance_surface, instance_uv, mesh, plane_surface,
+    sphere_surface, triangle_surface, triangle_uv, Hit, MaterialId, MeshEntry, SurfacePoint, TriangleLayout,
 };
 
 /// Flag bit marking a moving object in [`Hit::object`] (below the unbounded flag).
@@ -231,8 +231,12 @@ impl SceneMotion {
     }
 
     /// Material of a hit on a moving object.
-    pub fn material(&self, hit: &Hit) -> MaterialId {
-        self.object(hit).material
+    pub fn material<L: TriangleLayout>(&self, meshes: &[Arc<MeshEntry<L>>], hit: &Hit) -> MaterialId {
+        let o = self.object(hit);
+        match &o.shape {
+            Shape::Mesh { mesh, .. } => meshes[mesh.0 as usize].face_material(o.material, hit.prim),
+            _ => o.material,
+        }
     }
 
     /// Nearest hit with a moving object at time `s` in `(t_min, t_max)`: the planes, then the
@@ -304,16 +308,16 @@ impl SceneMotion {
         t_max: f32,
         s: f32,
         opaque: bool,
-        kt: impl Fn(MaterialId) -> f32,
+        kt: impl Fn(MaterialId) -> Vec3,
         tally: &mut T,
-    ) -> f32 {
+    ) -> Vec3 {
         let share = |i: u32, tally: &mut T| {
-            let mut share = 1.0f32;
+            let mut share = Vec3::ONE;
             let mut t_lo = 0.0;
             while let Some(h) = self.intersect(meshes, i, ray, t_lo, t_max, s, tally) {
-                share *= if opaque { 0.0 } else { kt(self.objects[i as usize].material) };
-                if share == 0.0 {
-                    return 0.0;
+                share *= if opaque { Vec3::ZERO } else { kt(self.objects[i as usize].material) };
+                if share == Vec3::ZERO {
+                    return Vec3::ZERO;
                 }
                 t_lo = h.t;
             }
@@ -330,11 +334,11 @@ impl SceneMotion {
         });
         crossed.extend(seen);
         crossed.sort_unstable();
-        let mut pass = 1.0f32;
+        let mut pass = Vec3::ONE;
         for i in crossed {
             pass *= share(i, tally);
-            if pass == 0.0 {
-                return 0.0;
+            if pass == Vec3::ZERO {
+                return Vec3::ZERO;
             }
         }
         pass
@@ -382,6 +386,28 @@ impl SceneMotion {
             Placed::Instance { mesh: id, to_object, .. } => {
                 let entry = &meshes[id.0 as usize];
                 mesh::instance_hit(entry, &to_object, object, ray, t_min, t_max, tally)
+            }
+        }
+    }
+
+    /// Texture coordinates at a hit on a moving object by a ray at time `s`, whose surface
+    /// point is `point` ([`crate::store::PrimitiveStore::uv`]).
+    pub fn uv<L: TriangleLayout>(
+        &self,
+        meshes: &[Arc<MeshEntry<L>>],
+        hit: &Hit,
+        point: Vec3,
+        s: f32,
+        origin: DVec3,
+    ) -> crate::geom::uv::SurfaceUv {
+        use crate::geom::uv;
+        match self.object(hit).placed_at(s) {
+            Placed::Sphere { centre, .. } => uv::sphere(centre, point),
+            Placed::Plane { normal, .. } => uv::planar(normal, point, origin),
+            Placed::Triangles(tris) => triangle_uv(tris[hit.prim as usize], point, origin),
+            Placed::Cuboid { to_object, min, max, .. } => cuboid_uv(&to_object, min, max, hit, point),
+            Placed::Instance { mesh: id, to_object, .. } => {
+                instance_uv(&meshes[id.0 as usize], &to_object, hit)
             }
         }
     }

@@ -25,7 +25,7 @@
 
 use super::scene::TraceScene;
 use crate::accel::packet::{coherent_walk, PacketSink};
-use crate::math::{Aabb, RayPacket};
+use crate::math::{Aabb, RayPacket, Vec3};
 use crate::store::{PacketHits, PrimitiveStore, TraversalCost};
 
 /// Rays per packet: 4 × 4 neighbouring pixels (measured against other widths by
@@ -137,7 +137,7 @@ pub fn occluded<const N: usize, S: PrimitiveStore>(
     let (mut pass, open) = planes_part(scene, packet, cost);
     if scattered(scene, packet, &open) {
         alone(scene, packet, &open, &mut pass, cost);
-        return std::array::from_fn(|i| packet.active[i] && pass[i] == 0.0);
+        return std::array::from_fn(|i| packet.active[i] && pass[i] == Vec3::ZERO);
     }
     let occluded = std::array::from_fn(|i| packet.active[i] && !open[i]);
     let bound = std::array::from_fn(|i| if occluded[i] { f32::NEG_INFINITY } else { packet.t_max[i] });
@@ -151,7 +151,7 @@ pub fn occluded<const N: usize, S: PrimitiveStore>(
         let rest = std::array::from_fn(|i| open[i] && !occluded[i]);
         alone(scene, packet, &rest, &mut pass, cost);
         for i in 0..N {
-            occluded[i] |= rest[i] && pass[i] == 0.0;
+            occluded[i] |= rest[i] && pass[i] == Vec3::ZERO;
         }
     }
     occluded
@@ -165,11 +165,11 @@ pub fn shadow_passes<const N: usize, S: PrimitiveStore>(
     scene: &TraceScene<S>,
     packet: &RayPacket<N>,
     cost: &mut TraversalCost,
-) -> [f32; N] {
+) -> [Vec3; N] {
     if scene.effects.transmission {
         transmittances(scene, packet, cost)
     } else {
-        occluded(scene, packet, cost).map(|blocked| if blocked { 0.0 } else { 1.0 })
+        occluded(scene, packet, cost).map(|blocked| if blocked { Vec3::ZERO } else { Vec3::ONE })
     }
 }
 
@@ -186,12 +186,12 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
     scene: &TraceScene<S>,
     packet: &RayPacket<N>,
     cost: &mut TraversalCost,
-) -> [f32; N] {
+) -> [Vec3; N] {
     use super::integrator::ordered_product;
     /// One object met by the walk: each lane's share, and which lanes have one.
     struct Met<const N: usize> {
         id: u32,
-        share: [f32; N],
+        share: [Vec3; N],
         done: [bool; N],
     }
     struct Shares<'a, const N: usize, S: PrimitiveStore> {
@@ -211,7 +211,7 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
             let k = match self.met.iter().position(|m| m.id == id) {
                 Some(k) => k,
                 None => {
-                    self.met.push(Met { id, share: [1.0; N], done: [false; N] });
+                    self.met.push(Met { id, share: [Vec3::ONE; N], done: [false; N] });
                     self.met.len() - 1
                 }
             };
@@ -237,7 +237,7 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
                         continue;
                     };
                     met.share[i] *= self.scene.material(store.material(&h)).kt;
-                    if met.share[i] == 0.0 {
+                    if met.share[i] == Vec3::ZERO {
                         // Blocked: the lane's walk is over.
                         self.bound[i] = f32::NEG_INFINITY;
                         todo[i] = false;
@@ -273,7 +273,7 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
             continue;
         }
         if bound[i] == f32::NEG_INFINITY {
-            pass[i] = 0.0;
+            pass[i] = Vec3::ZERO;
             continue;
         }
         shares.clear();
@@ -290,19 +290,19 @@ fn planes_part<const N: usize, S: PrimitiveStore>(
     scene: &TraceScene<S>,
     packet: &RayPacket<N>,
     cost: &mut TraversalCost,
-) -> ([f32; N], [bool; N]) {
+) -> ([Vec3; N], [bool; N]) {
     // Lane-wise, plane by plane: each lane multiplies its planes' `kt` in the single ray's order
     // and stops (blocked) where it would return 0.
     let store = &scene.store;
-    let mut pass = packet.active.map(|a| if a { 1.0f32 } else { 0.0 });
+    let mut pass = packet.active.map(|a| if a { Vec3::ONE } else { Vec3::ZERO });
     let mut open = packet.active;
     for p in 0..store.unbounded_count() {
         let live = open;
         cost.tests += live.iter().filter(|&&l| l).count() as u32;
         store.intersect_unbounded_packet(p, packet, &live, &[0.0; N], &packet.t_max, |i, h| {
             pass[i] *= scene.material(store.material(&h)).kt;
-            if !scene.effects.transmission || pass[i] == 0.0 {
-                pass[i] = 0.0;
+            if !scene.effects.transmission || pass[i] == Vec3::ZERO {
+                pass[i] = Vec3::ZERO;
                 open[i] = false;
             }
         });
@@ -328,7 +328,7 @@ fn alone<const N: usize, S: PrimitiveStore>(
     scene: &TraceScene<S>,
     packet: &RayPacket<N>,
     lanes: &[bool; N],
-    pass: &mut [f32; N],
+    pass: &mut [Vec3; N],
     cost: &mut TraversalCost,
 ) {
     for i in 0..N {

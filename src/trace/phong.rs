@@ -68,7 +68,7 @@ pub fn direct_light<S: PrimitiveStore>(
             Some(pass) => pass,
             None => shadow(scene, &Ray::new(s.above, to_light), dist * (1.0 - SHADOW_EPSILON), ctx),
         };
-        if pass > 0.0 {
+        if pass != Vec3::ZERO {
             colour += radiance * pass * phong(m, s.normal, view, to_light, n_dot_l);
         }
     }
@@ -99,7 +99,7 @@ fn area_light<S: PrimitiveStore>(
         }
         ctx.rays.area_shadow += 1;
         let pass = shadow(scene, &Ray::new(s.above, to_light), dist * (1.0 - SHADOW_EPSILON), ctx);
-        if pass > 0.0 {
+        if pass != Vec3::ZERO {
             colour += radiance * (pass * share) * phong(m, s.normal, view, to_light, n_dot_l);
         }
     }
@@ -151,7 +151,7 @@ fn area_light_packets<S: PrimitiveStore>(
         let each = cost.per_ray(lanes as u32);
         for (lane, &(to_light, radiance, n_dot_l)) in lit.iter().enumerate().take(lanes) {
             ctx.rays.traversal.record(each);
-            if pass[lane] > 0.0 {
+            if pass[lane] != Vec3::ZERO {
                 colour += radiance * (pass[lane] * share) * phong(m, s.normal, view, to_light, n_dot_l);
             }
         }
@@ -159,9 +159,14 @@ fn area_light_packets<S: PrimitiveStore>(
     colour
 }
 
-/// Transmittance of a shadow ray, its traversal cost counted.
+/// Transmittance of a shadow ray (per colour channel), its traversal cost counted.
 #[inline]
-fn shadow<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max: f32, ctx: &mut PathContext<'_>) -> f32 {
+fn shadow<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    ray: &Ray,
+    t_max: f32,
+    ctx: &mut PathContext<'_>,
+) -> Vec3 {
     let mut cost = TraversalCost::default();
     let pass = transmittance_at(scene, ray, t_max, ctx.time, &mut cost);
     ctx.rays.traversal.record(cost);

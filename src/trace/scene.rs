@@ -8,16 +8,44 @@ use super::material::Material;
 use super::motion::{SceneMotion, MOVING_FLAG};
 use crate::accel::{GridBuilder, UniformGrid};
 use crate::camera::Camera;
-use crate::math::{Ray, Vec3};
+use glam::DVec3;
+
+use crate::geom::uv::SurfaceUv;
+use crate::math::{Ray, Vec2, Vec3};
 use crate::store::{
     Hit, MaterialId, MeshAsset, MeshEntry, PlacedObject, PrimitiveStore, SoaStore, SurfacePoint,
     UNBOUNDED_FLAG,
 };
+use crate::texture::Texture;
 
 /// True when a hit is on a moving object ([`MOVING_FLAG`] set, the unbounded flag clear).
 #[inline]
 pub fn is_moving(hit: &Hit) -> bool {
     hit.object & (MOVING_FLAG | UNBOUNDED_FLAG) == MOVING_FLAG
+}
+
+/// Step in (u, v) of a bump map's finite differences.
+const BUMP_STEP: f32 = 1.0 / 1024.0;
+
+/// The unit normal of the surface `su` displaced along `n` by `depth × height`, the height being
+/// the mean of `texture`'s channels and `depth` relative to the size of one unit of (u, v)
+/// there (pbrt's bump mapping, by finite differences); on `n`'s side. `n` where the surface
+/// has no derivatives.
+fn bumped(texture: &Texture, depth: f32, su: &SurfaceUv, n: Vec3) -> Vec3 {
+    if su.dpdu == Vec3::ZERO || su.dpdv == Vec3::ZERO {
+        return n;
+    }
+    let scale = depth * 0.5 * (su.dpdu.length() + su.dpdv.length());
+    let height = |uv: Vec2| texture.eval(uv).element_sum() / 3.0 * scale;
+    let h = height(su.uv);
+    let dhdu = (height(su.uv + Vec2::new(BUMP_STEP, 0.0)) - h) / BUMP_STEP;
+    let dhdv = (height(su.uv + Vec2::new(0.0, BUMP_STEP)) - h) / BUMP_STEP;
+    let tilted = (su.dpdu + dhdu * n).cross(su.dpdv + dhdv * n).normalize_or_zero();
+    match tilted.dot(n) {
+        d if d > 0.0 => tilted,
+        d if d < 0.0 => -tilted,
+        _ => n,
+    }
 }
 
 /// The non-geometric part of a snapshot: materials, lights, camera and the constant terms.
@@ -61,6 +89,11 @@ pub struct TraceScene<S: PrimitiveStore = SoaStore> {
     /// What moves while the shutter is open (motion blur); `None` when nothing does, and then
     /// no ray is given a time and nothing is paid for motion.
     pub motion: Option<Arc<SceneMotion>>,
+    /// Texture table indexed by [`crate::texture::TextureId`] (shared between frames).
+    pub textures: Arc<[Texture]>,
+    /// Where the camera is in the world: the snapshot's coordinates are relative to it. Planar
+    /// texture coordinates add it back, so textures stay put when the camera moves.
+    pub origin: DVec3,
 }
 
 impl<S: PrimitiveStore> TraceScene<S> {
@@ -86,7 +119,63 @@ impl<S: PrimitiveStore> TraceScene<S> {
             effects,
             object_names: Vec::new(),
             motion: None,
+            textures: Arc::from(Vec::new()),
+            origin: DVec3::ZERO,
         }
+    }
+
+    /// The snapshot with its texture table (`Effects::textures` says whether a material uses
+    /// one) and the world position of its origin, the camera.
+    pub fn with_textures(mut self, textures: Arc<[Texture]>, origin: DVec3) -> Self {
+        debug_assert!(
+            self.materials.iter().flat_map(|m| m.maps.textures()).all(|t| (t.0 as usize) < textures.len()),
+            "a material names a texture the table lacks"
+        );
+        self.textures = textures;
+        self.origin = origin;
+        self
+    }
+
+    /// Texture coordinates at `hit` ([`crate::geom::uv`]), whose surface point is `point`, for a
+    /// ray at time `s`.
+    #[inline]
+    pub fn uv(&self, hit: &Hit, point: Vec3, s: f32) -> SurfaceUv {
+        match &self.motion {
+            Some(m) if is_moving(hit) => m.uv(self.store.meshes(), hit, point, s, self.origin),
+            _ => self.store.uv(hit, point, self.origin),
+        }
+    }
+
+    /// Material `m` as it is at `hit` (surface point `point`, time `s`): its colours times its
+    /// textures there. Untextured materials come back unchanged, and cost one test.
+    #[inline]
+    pub fn material_at(&self, m: &Material, hit: &Hit, point: Vec3, s: f32) -> Material {
+        self.shade_at(m, hit, point, Vec3::ZERO, s).0
+    }
+
+    /// [`TraceScene::material_at`], and the unit shading normal `ns` (facing the viewer) tilted by
+    /// the material's bump map there (`ns` itself without one, or where the surface has no
+    /// texture derivatives).
+    #[inline]
+    pub fn shade_at(&self, m: &Material, hit: &Hit, point: Vec3, ns: Vec3, s: f32) -> (Material, Vec3) {
+        let mut m = *m;
+        if m.maps.is_empty() {
+            return (m, ns);
+        }
+        let su = self.uv(hit, point, s);
+        if let Some(t) = m.maps.kd {
+            m.kd *= self.textures[t.0 as usize].eval(su.uv);
+        }
+        if let Some(t) = m.maps.ks {
+            m.ks *= self.textures[t.0 as usize].eval(su.uv).element_sum() / 3.0;
+        }
+        let ns = match m.maps.bump {
+            Some(bump) if ns != Vec3::ZERO => {
+                bumped(&self.textures[bump.texture.0 as usize], bump.depth, &su, ns)
+            }
+            _ => ns,
+        };
+        (m, ns)
     }
 
     /// The snapshot with `motion` (none when it is empty): moving objects and the camera's
@@ -120,7 +209,7 @@ impl<S: PrimitiveStore> TraceScene<S> {
     #[inline]
     pub fn hit_material(&self, hit: &Hit) -> MaterialId {
         match &self.motion {
-            Some(m) if is_moving(hit) => m.material(hit),
+            Some(m) if is_moving(hit) => m.material(self.store.meshes(), hit),
             _ => self.store.material(hit),
         }
     }

@@ -28,6 +28,28 @@ impl Materials {
     }
 }
 
+/// Texture table; [`crate::texture::TextureId`] indexes it. Names are kept for scripts.
+#[derive(Resource, Debug, Clone)]
+pub struct Textures {
+    /// Textures in id order (shared with every snapshot until a script changes one).
+    pub table: Arc<[crate::texture::Texture]>,
+    /// Name of each texture, same order.
+    pub names: Vec<String>,
+}
+
+impl Default for Textures {
+    fn default() -> Self {
+        Self { table: Arc::from(Vec::new()), names: Vec::new() }
+    }
+}
+
+impl Textures {
+    /// Id of the texture called `name`.
+    pub fn id(&self, name: &str) -> Option<crate::texture::TextureId> {
+        self.names.iter().position(|n| n == name).map(|i| crate::texture::TextureId(i as u32))
+    }
+}
+
 /// The camera as authored (positions in `f64`, angles in radians). Its position is the
 /// origin of every snapshot ([`FrameOrigin`]).
 #[derive(Resource, Debug, Clone, Copy, PartialEq)]

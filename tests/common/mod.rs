@@ -221,7 +221,11 @@ pub fn mesh_scene<S: penumbra::store::PrimitiveStore>(
             Material { kd: Vec3::splat(0.5), ..Material::default() },
             Material { kd: Vec3::new(0.75, 0.62, 0.5), ks: 0.4, shininess: 50.0, ..Material::default() },
         ],
-        lights: vec![penumbra::trace::Light::Point { position: MESH_LIGHT, radiance: Vec3::ONE }],
+        lights: vec![penumbra::trace::Light::Point {
+            position: MESH_LIGHT,
+            radiance: Vec3::ONE,
+            falloff: Default::default(),
+        }],
         camera: Camera::look_at(
             Vec3::new(0.0, 1.6, -4.6),
             Vec3::new(0.0, 1.0, 0.0),

@@ -9,6 +9,7 @@ use rhai::{Dynamic, EvalAltResult, FLOAT, INT};
 
 use super::path::Path;
 use super::scene::{CameraHandle, EntityHandle, SettingsHandle};
+use super::texture::TextureHandle;
 
 /// What API functions return: a value or a Rhai runtime error.
 pub type ScriptResult<T> = Result<T, Box<EvalAltResult>>;
@@ -18,7 +19,7 @@ pub fn error<T>(message: impl Into<String>) -> ScriptResult<T> {
     Err(message.into().into())
 }
 
-/// The script name of `value`'s type: `vec3`, `path`, `entity` rather than Rust paths.
+/// The script name of `value`'s type: `vec3`, `path`, `entity`, `texture` rather than Rust paths.
 pub fn type_name(value: &Dynamic) -> &'static str {
     if value.is::<DVec3>() {
         "vec3"
@@ -30,6 +31,8 @@ pub fn type_name(value: &Dynamic) -> &'static str {
         "camera"
     } else if value.is::<SettingsHandle>() {
         "settings"
+    } else if value.is::<TextureHandle>() {
+        "texture"
     } else {
         value.type_name()
     }

@@ -62,7 +62,12 @@ pub fn radiance(state: &ScriptState, what: &str) -> ScriptResult<()> {
             let colour = terms.colour.as_vec3();
             Some((
                 e.name.as_str(),
-                LightDesc::Point { position: DVec3::ZERO, colour, intensity: terms.intensity as f32 },
+                LightDesc::Point {
+                    position: DVec3::ZERO,
+                    colour,
+                    intensity: terms.intensity as f32,
+                    falloff: Default::default(),
+                },
             ))
         })
         .collect();
@@ -83,9 +88,12 @@ pub fn radiance(state: &ScriptState, what: &str) -> ScriptResult<()> {
             ..Default::default()
         },
         materials: Vec::new(),
+        textures: Vec::new(),
         lights: lights.iter().map(|(_, l)| l.clone()).collect(),
         objects: Vec::new(),
         meshes: Default::default(),
+        texture_table: Default::default(),
+        library_textures: Vec::new(),
     };
     if let Some(v) = camera_samples_violation(&scene) {
         return error(format!("{what}: {}", script_names(&v.rule)));

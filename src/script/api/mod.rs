@@ -1,6 +1,6 @@
 //! The API scripts see, registered into a sandboxed engine: vectors and animation helpers
-//! (`math`, `path`), the scene (`scene`: camera, entities, settings, the clock), sweep
-//! helpers (`sweep`) and the property names of each type (`properties`), for error messages;
+//! (`math`, `path`), the scene (`scene`: camera, entities, settings, the clock; `texture`:
+//! the textures' transforms), sweep helpers (`sweep`) and the property names of each type (`properties`), for error messages;
 //! `limits` checks writes against the scene's combined rules.
 
 pub mod convert;
@@ -10,6 +10,7 @@ pub mod path;
 pub mod properties;
 pub mod scene;
 pub mod sweep;
+pub mod texture;
 
 use rhai::Engine;
 
@@ -21,6 +22,7 @@ pub fn register(engine: &mut Engine, state: &SharedState) {
     path::register(engine);
     sweep::register(engine);
     scene::register(engine, state);
+    texture::register(engine, state);
 }
 
 /// An engine with the scene-free API (math, paths, sweeps) and evaluation helpers for tests.

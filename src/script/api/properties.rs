@@ -1,8 +1,11 @@
-//! The properties of each script type (`camera`, `entity`, `settings`, `vec3`, `path`), so
-//! that an unknown or read-only property fails with a message that names the object, suggests
-//! the closest property and lists them all, rather than Rhai's "a setter is not registered".
+//! The properties of each script type (`camera`, `entity`, `settings`, `texture`, `vec3`,
+//! `path`), so that an unknown or read-only property fails with a message that names the
+//! object, suggests the closest property and lists them all, rather than Rhai's "a setter is
+//! not registered"; and the message for a name the scene does not have ([`unknown_name`]).
 
 use super::scene::{CAMERA_PROPERTIES, SETTINGS_PROPERTIES};
+use super::texture::TEXTURE_PROPERTIES;
+use crate::scene::error::shown;
 
 /// The properties and methods of one script type.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -50,6 +53,7 @@ pub const TYPES: &[Properties] = &[
         methods: &[],
     },
     Properties { object: "settings", writable: SETTINGS_PROPERTIES, read_only: &[], methods: &[] },
+    Properties { object: "texture", writable: TEXTURE_PROPERTIES, read_only: &["name"], methods: &[] },
     Properties { object: "vec3", writable: &["x", "y", "z"], read_only: &[], methods: &[] },
     Properties {
         object: "path",
@@ -101,6 +105,26 @@ impl Properties {
         }
         text
     }
+}
+
+/// Why there is no `kind` (`entity`, `texture`) called `name`: the closest name, if one is
+/// close enough to be a typo, and the names there are (the first 24, sorted).
+pub fn unknown_name<'a>(kind: &str, name: &str, names: impl IntoIterator<Item = &'a str>) -> String {
+    const SHOWN: usize = 24;
+    let mut names: Vec<&str> = names.into_iter().collect();
+    if names.is_empty() {
+        return format!("no {kind} named `{}` in the scene; it has no {kind}s", shown(name));
+    }
+    names.sort_unstable();
+    let closest = closest(name, names.iter().copied())
+        .map_or(String::new(), |n| format!(" (did you mean `{}`?)", shown(n)));
+    let more = match names.len().saturating_sub(SHOWN) {
+        0 => String::new(),
+        n => format!(" and {n} more"),
+    };
+    names.truncate(SHOWN);
+    let names: Vec<String> = names.into_iter().map(shown).collect();
+    format!("no {kind} named `{}` in the scene{closest}; it has: {}{more}", shown(name), names.join(", "))
 }
 
 /// The candidate closest to `name` by edit distance, if it is close enough to be a typo (at

@@ -13,8 +13,7 @@ use rhai::{Array, Dynamic, Engine, ImmutableString, Module, FLOAT, INT};
 
 use super::convert::{error, finite, integer, vector, ScriptResult};
 use super::limits;
-use super::properties::closest;
-use crate::scene::error::shown;
+use super::properties::unknown_name;
 use crate::scene::format::{CameraDesc, LightDesc, MaterialDesc, SamplingDesc, SceneDesc, SettingsDesc};
 use crate::scene::validate::{
     self, coordinate_rule, MAX_ADAPTIVE_DEPTH, MAX_COORDINATE, MAX_DEPTH, MAX_IMAGE_SIZE, MAX_SAMPLES,
@@ -228,25 +227,10 @@ fn script_field(field: &str) -> &str {
 /// The index of the entity called `name`, or an error that suggests the closest name and
 /// lists the names there are.
 fn find(state: &ScriptState, name: &str) -> ScriptResult<usize> {
-    if let Some(index) = state.index_of(name) {
-        return Ok(index);
+    match state.index_of(name) {
+        Some(index) => Ok(index),
+        None => error(unknown_name("entity", name, state.entities.iter().map(|e| e.name.as_str()))),
     }
-    const SHOWN: usize = 24;
-    let mut names: Vec<&str> = state.entities.iter().map(|e| e.name.as_str()).collect();
-    names.sort_unstable();
-    let closest = closest(name, names.iter().copied())
-        .map_or(String::new(), |n| format!(" (did you mean `{}`?)", shown(n)));
-    let more = match names.len().saturating_sub(SHOWN) {
-        0 => String::new(),
-        n => format!(" and {n} more"),
-    };
-    names.truncate(SHOWN);
-    let names: Vec<String> = names.into_iter().map(shown).collect();
-    error(format!(
-        "no entity named `{}` in the scene{closest}; it has: {}{more}",
-        shown(name),
-        names.join(", ")
-    ))
 }
 
 fn register_entities(engine: &mut Engine, state: &SharedState) {
@@ -341,7 +325,15 @@ fn register_entities(engine: &mut Engine, state: &SharedState) {
     scalar_material!("ks", ks);
     scalar_material!("shininess", shininess);
     scalar_material!("kr", kr);
-    scalar_material!("kt", kt);
+    // `kt` is the strength of the transmittance; a scene's tint stays (its largest channel is
+    // the strength, so the desc's rules see the same value).
+    engine.register_get("kt", |e: &mut EntityHandle| -> ScriptResult<FLOAT> {
+        e.read(|entry| material(entry).map(|m| m.kt))
+    });
+    engine.register_set("kt", |e: &mut EntityHandle, v: Dynamic| -> ScriptResult<()> {
+        let v = finite(&v, "kt")?;
+        e.write_material("kt", |m| m.kt = v, |d| d.kt = Vec3::splat(v as f32))
+    });
     scalar_material!("ior", ior);
     scalar_material!("glossiness", glossiness);
 
@@ -378,14 +370,18 @@ fn check_light_field(name: &str, field: &str, terms: LightTerms) -> ScriptResult
         position: DVec3::ZERO,
         colour: terms.colour.as_vec3(),
         intensity: terms.intensity as f32,
+        falloff: Default::default(),
     };
     let scene = SceneDesc {
         camera: valid_camera_desc(),
         settings: SettingsDesc::default(),
         materials: Vec::new(),
+        textures: Vec::new(),
         lights: vec![light],
         objects: Vec::new(),
         meshes: Default::default(),
+        texture_table: Default::default(),
+        library_textures: Vec::new(),
     };
     match validate::validate(&scene) {
         Ok(()) => Ok(()),
@@ -420,18 +416,22 @@ fn object(entry: &EntityState, property: &str) -> ScriptResult<bool> {
 fn material(entry: &EntityState) -> ScriptResult<&MaterialParams> {
     match &entry.material {
         Some(m) => Ok(&m.params),
+        None if entry.faces_own_materials => error(format!(
+            "entity `{}` takes its faces' materials from its file (`materials: FromFile`): set them in the scene (a scene material named like a library material replaces it)",
+            entry.name
+        )),
         None => error(format!("entity `{}` is a light: it has no material", entry.name)),
     }
 }
 
 /// The material the scene format checks one field on: defaults everywhere else.
 fn default_material_desc() -> MaterialDesc {
-    MaterialDesc::describe("script", &crate::trace::Material::default())
+    MaterialDesc::describe("script", &crate::trace::Material::default(), &[])
 }
 
 /// An entity's material as the scene format describes it, for whole-material checks.
 pub fn material_desc(entry: &EntityState) -> Option<MaterialDesc> {
-    entry.material.map(|m| MaterialDesc::describe(&entry.name, &m.params.to_material()))
+    entry.material.map(|m| MaterialDesc::describe(&entry.name, &m.params.to_material(), &[]))
 }
 
 impl EntityHandle {

@@ -15,7 +15,7 @@ use crate::world::components::{
 };
 use crate::world::resources::{
     CameraRig, FrameOrigin, GridIndex, Materials, MeshLayouts, MeshTable, SceneSettings, ShutterCamera,
-    Snapshot, StageClock,
+    Snapshot, StageClock, Textures,
 };
 use crate::world::systems::grid::is_visible;
 
@@ -52,6 +52,7 @@ pub fn build_snapshot<S: PrimitiveStore + 'static>(
     lights: Query<(Entity, &Light, Option<&Visible>)>,
     index: Res<GridIndex>,
     materials: Res<Materials>,
+    textures: Option<Res<Textures>>,
     rig: Res<CameraRig>,
     origin: Res<FrameOrigin>,
     settings: Res<SceneSettings>,
@@ -106,6 +107,9 @@ pub fn build_snapshot<S: PrimitiveStore + 'static>(
     };
     let mut scene = TraceScene::with_grid(index.grid.clone(), &bounded, &unbounded, &layouts.0, tables);
     scene.object_names = object_names;
+    if let Some(textures) = textures {
+        scene = scene.with_textures(textures.table.clone(), origin.0);
+    }
     let motion = scene_motion(&moving, &rig, shutter_camera.0.as_ref(), origin.0, settings.lambda);
     if let Some(motion) = motion {
         scene.object_names.extend(motion.names.iter().cloned());
