@@ -219,9 +219,8 @@ fn an_image_texture_and_an_mtl_image_are_recorded_inputs_and_a_changed_image_cha
         bytes
     };
     let mtl = "newmtl red\nmap_Kd tex/red.png\n";
-    let obj = format!(
-        "mtllib m.mtl\nv -1 0 -1\nv 1 0 -1\nv 1 0 1\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl red\nf 1/1 3/3 2/2\n"
-    );
+    let obj =
+        "mtllib m.mtl\nv -1 0 -1\nv 1 0 -1\nv 1 0 1\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl red\nf 1/1 3/3 2/2\n";
     let dir =
         folder(&[("q.obj", obj.as_bytes()), ("m.mtl", mtl.as_bytes()), ("floor.png", &png([200, 100, 50]))]);
     std::fs::create_dir(dir.path().join("tex")).expect("folder");
