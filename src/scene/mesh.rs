@@ -148,7 +148,7 @@ pub fn load_meshes(scene: &mut SceneDesc, base: &Path, text: &str, origin: &str)
 }
 
 /// `file` relative to `base`, unless absolute.
-fn resolve(base: &Path, file: &str) -> PathBuf {
+pub(super) fn resolve(base: &Path, file: &str) -> PathBuf {
     let p = Path::new(file);
     if p.is_absolute() {
         p.to_path_buf()

@@ -11,7 +11,7 @@
 //! ```
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 
 use super::error::{shown, SceneError};
@@ -145,7 +145,7 @@ pub fn load_textures(scene: &mut SceneDesc, base: &Path, text: &str, origin: &st
                 let raster = match decoded.get(&key) {
                     Some(raster) => raster.clone(),
                     None => {
-                        let path = resolve(base, file);
+                        let path = super::mesh::resolve(base, file);
                         let raster = read_raster(&path, *colour_space).map_err(|rule| {
                             let field =
                                 FieldPath::root().field("textures").index(i).field("kind").field("file");
@@ -213,14 +213,4 @@ fn check_mesh_uvs(scene: &SceneDesc) -> Check {
 fn read_raster(path: &Path, space: crate::texture::ColourSpace) -> Result<Raster, String> {
     let bytes = std::fs::read(path).map_err(|e| format!("cannot read texture {}: {e}", path.display()))?;
     Raster::decode(path, &bytes, space).map_err(|e| format!("cannot use texture {}: {e}", path.display()))
-}
-
-/// `file` relative to `base`, unless absolute.
-fn resolve(base: &Path, file: &str) -> PathBuf {
-    let p = Path::new(file);
-    if p.is_absolute() {
-        p.to_path_buf()
-    } else {
-        base.join(p)
-    }
 }
