@@ -16,7 +16,7 @@
 
 use super::aov::Aovs;
 use super::exr_io::{legend, LEGEND_KEY};
-use super::output::linear_to_srgb;
+use super::tonemap::linear_to_srgb;
 use crate::math::Vec3;
 
 /// One AOV rendered for viewing.

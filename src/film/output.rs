@@ -19,7 +19,7 @@ use super::exr_io::{decode_exr, encode_exr, read_exr_metadata, reserved_key, LEG
 pub use super::format::OutputFormat;
 use super::metadata::Metadata;
 use super::png_io::{encode_png, film_samples, read_png_metadata, Samples};
-use super::tonemap::ToneMapping;
+use super::tonemap::{encode_srgb8, ToneMapping};
 use super::Film;
 
 /// Failure to write or read an output file.
@@ -87,22 +87,6 @@ pub enum OutputError {
         /// Which buffer is wrong.
         message: String,
     },
-}
-
-/// The sRGB transfer function of a linear value in [0, 1] (values outside are clamped).
-#[inline]
-pub fn linear_to_srgb(v: f32) -> f32 {
-    let v = v.clamp(0.0, 1.0);
-    if v <= 0.003_130_8 {
-        12.92 * v
-    } else {
-        1.055 * v.powf(1.0 / 2.4) - 0.055
-    }
-}
-
-/// 8-bit sRGB bytes of a film, row-major RGB.
-pub fn encode_srgb8(film: &Film) -> Vec<u8> {
-    film.pixels.iter().flat_map(|c| c.to_array().map(|v| (linear_to_srgb(v) * 255.0 + 0.5) as u8)).collect()
 }
 
 /// Writes the film as an 8-bit sRGB PNG, atomically (see [`write_atomically`]).
@@ -346,16 +330,6 @@ mod tests {
     use super::*;
     use crate::film::fixtures::{random_aovs, random_film};
     use crate::film::ToneOperator;
-
-    #[test]
-    fn srgb_curve_hits_known_points() {
-        assert_eq!(linear_to_srgb(0.0), 0.0);
-        assert!((linear_to_srgb(1.0) - 1.0).abs() < 1e-6);
-        let white = Film { width: 1, height: 1, pixels: vec![crate::math::Vec3::ONE] };
-        assert_eq!(encode_srgb8(&white), vec![255, 255, 255]);
-        // Mid-grey 0.5 in sRGB is about 0.214 linear.
-        assert!((linear_to_srgb(0.214_041) - 0.5).abs() < 1e-4);
-    }
 
     #[test]
     fn png_round_trips_and_leaves_no_temporary_files() {

@@ -8,7 +8,7 @@ use std::path::Path;
 use png::{BitDepth, ColorType, Decoder, Encoder, EncodingError};
 
 use super::metadata::{is_latin1, Metadata};
-use super::output::linear_to_srgb;
+use super::tonemap::linear_to_srgb;
 use super::tonemap::{tone_map, ToneMapping};
 use super::Film;
 

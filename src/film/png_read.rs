@@ -8,20 +8,9 @@ use std::path::Path;
 use png::{BitDepth, ColorType, Decoder, Transformations};
 
 use super::output::OutputError;
+use super::tonemap::srgb_to_linear;
 use super::Film;
 use crate::math::Vec3;
-
-/// The inverse of [`linear_to_srgb`](super::linear_to_srgb): the linear value of an sRGB-encoded
-/// value in [0, 1] (values outside are clamped).
-#[inline]
-pub fn srgb_to_linear(v: f32) -> f32 {
-    let v = v.clamp(0.0, 1.0);
-    if v <= 0.040_45 {
-        v / 12.92
-    } else {
-        ((v + 0.055) / 1.055).powf(2.4)
-    }
-}
 
 /// A PNG decoded to linear light.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,9 +1,11 @@
-//! Tone mapping: from linear scene radiance to display values in [0, 1], before sRGB encoding.
+//! The display transform: tone mapping from linear scene radiance to display values in [0, 1],
+//! then the sRGB transfer curve (and its inverse, for images read back).
 //! Exposure (in stops) scales first; then one operator: clamp, Reinhard with a white point, or
 //! an ACES-fitted filmic curve. Only 8- and 16-bit outputs are tone-mapped; EXR stays linear.
 
 use serde::Deserialize;
 
+use super::Film;
 use crate::math::Vec3;
 
 /// The curve that maps exposed linear values into [0, 1].
@@ -73,9 +75,47 @@ fn map_channel(x: f32, tm: &ToneMapping) -> f32 {
     }
 }
 
+/// The sRGB transfer function of a linear value in [0, 1] (values outside are clamped).
+#[inline]
+pub fn linear_to_srgb(v: f32) -> f32 {
+    let v = v.clamp(0.0, 1.0);
+    if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// 8-bit sRGB bytes of a film, row-major RGB.
+pub fn encode_srgb8(film: &Film) -> Vec<u8> {
+    film.pixels.iter().flat_map(|c| c.to_array().map(|v| (linear_to_srgb(v) * 255.0 + 0.5) as u8)).collect()
+}
+
+/// The inverse of [`linear_to_srgb`]: the linear value of an sRGB-encoded
+/// value in [0, 1] (values outside are clamped).
+#[inline]
+pub fn srgb_to_linear(v: f32) -> f32 {
+    let v = v.clamp(0.0, 1.0);
+    if v <= 0.040_45 {
+        v / 12.92
+    } else {
+        ((v + 0.055) / 1.055).powf(2.4)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn srgb_curve_hits_known_points() {
+        assert_eq!(linear_to_srgb(0.0), 0.0);
+        assert!((linear_to_srgb(1.0) - 1.0).abs() < 1e-6);
+        let white = Film { width: 1, height: 1, pixels: vec![crate::math::Vec3::ONE] };
+        assert_eq!(encode_srgb8(&white), vec![255, 255, 255]);
+        // Mid-grey 0.5 in sRGB is about 0.214 linear.
+        assert!((linear_to_srgb(0.214_041) - 0.5).abs() < 1e-4);
+    }
 
     fn tm(operator: ToneOperator, exposure: f32, white: f32) -> ToneMapping {
         ToneMapping { operator, exposure, white }
