@@ -1,6 +1,6 @@
 //! Math shared by every layer: glam re-exports, rays, axis-aligned boxes and ray offsets.
 
-pub use glam::{Affine3A, Mat3, Mat3A, Quat, Vec2, Vec3, Vec3A};
+pub use glam::{Affine3A, DVec3, Mat3, Mat3A, Quat, Vec2, Vec3, Vec3A};
 
 /// A ray `origin + t * dir`; `dir` is unit length for every ray the tracer makes.
 #[derive(Debug, Clone, Copy, PartialEq)]

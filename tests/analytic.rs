@@ -7,17 +7,15 @@ use penumbra::accel::DEFAULT_LAMBDA;
 use penumbra::camera::Camera;
 use penumbra::geom::Shape;
 use penumbra::math::{Ray, Vec3};
-use penumbra::sample::SampleKey;
 use penumbra::store::{MaterialId, PlacedObject};
-use penumbra::trace::integrator::{radiance, CameraSample, PathContext};
-use penumbra::trace::{render, Light, Material, RayCounts, RenderSettings, SceneTables, TraceScene};
+use penumbra::trace::{render, trace_ray, Light, Material, RenderSettings, SceneTables, TraceScene};
 
 const TOL: f32 = 1e-5;
 
-/// Context of one deterministic path with up to 8 bounces and no contribution cut-off.
-fn path_context(rays: &mut RayCounts) -> PathContext<'_> {
+/// Radiance along one deterministic path with up to 8 bounces and no contribution cut-off.
+fn radiance(scene: &TraceScene, ray: &Ray) -> Vec3 {
     let settings = RenderSettings { max_depth: 8, min_contribution: 0.0, ..Default::default() };
-    PathContext::new(&settings, CameraSample::single(SampleKey::default()), rays)
+    trace_ray(scene, &settings, ray)
 }
 
 fn object(shape: Shape, material: u32) -> PlacedObject {
@@ -123,9 +121,7 @@ fn mirror_shows_the_colour_of_what_it_faces() {
 /// A detector plane `z = 5` lit by a point light near it: its brightness N·L identifies the
 /// point where a ray lands. Returns that point's x from the measured radiance.
 fn landing_x(scene: &TraceScene, ray: &Ray, light: Vec3) -> f32 {
-    let mut rays = RayCounts::default();
-    let mut ctx = path_context(&mut rays);
-    let n_dot_l = radiance(scene, ray, 0, 1.0, &mut ctx).x;
+    let n_dot_l = radiance(scene, ray).x;
     let h = 5.0 - light.z;
     light.x + ((h / n_dot_l).powi(2) - h * h).max(0.0).sqrt()
 }
@@ -190,9 +186,7 @@ fn total_internal_reflection_past_the_critical_angle() {
     let seen = |theta_deg: f32| {
         let theta = theta_deg.to_radians();
         let ray = Ray::new(Vec3::new(0.0, 0.0, 0.5), Vec3::new(theta.sin(), 0.0, theta.cos()));
-        let mut rays = RayCounts::default();
-        let mut ctx = path_context(&mut rays);
-        radiance(&s, &ray, 0, 1.0, &mut ctx)
+        radiance(&s, &ray)
     };
     assert_close(seen(30.0), red, "refracted out of the top");
     assert_close(seen(critical - 2.0), red, "just below the critical angle");

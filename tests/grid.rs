@@ -13,7 +13,7 @@ use penumbra::accel::UniformGrid;
 use penumbra::geom::Placed;
 use penumbra::math::{Aabb, Ray, Vec3};
 use penumbra::store::{Hit, NoTally, PlacedObject, PrimitiveStore};
-use penumbra::trace::integrator::transmittance;
+use penumbra::trace::transmittance;
 use penumbra::trace::{closest_hit, closest_hit_brute, Material, TraceScene};
 use rand::rngs::StdRng;
 use rand::RngExt;
@@ -242,10 +242,11 @@ fn judge(scene: &TraceScene, q: &Query, grid: Option<Hit>, brute: Option<Hit>) -
         (Some(g), Some(b)) if close(g.t, b.t) && (g.object, g.prim) == (b.object, b.prim) => Verdict::Same,
         (Some(g), Some(b)) if close(g.t, b.t) => {
             // Re-derive the grid's hit on its own: it must be a genuine hit of that object.
-            let again = if g.object & penumbra::store::UNBOUNDED_FLAG != 0 {
-                None
-            } else {
-                scene.store.intersect_bounded(g.object, &q.ray, q.t_min, q.t_max, &mut NoTally)
+            let again = match g.object.kind() {
+                penumbra::store::ObjectKind::Bounded(id) => {
+                    scene.store.intersect_bounded(id, &q.ray, q.t_min, q.t_max, &mut NoTally)
+                }
+                _ => None,
             };
             if again.is_some_and(|h| h.t == g.t) {
                 Verdict::Tie

@@ -4,6 +4,8 @@
 //! (`closest_hit_brute`), which must agree with the expectation and with each other.
 
 use crate::common;
+use penumbra::store::ObjectId;
+use penumbra::trace::aov::object_index;
 
 use std::sync::Arc;
 
@@ -418,7 +420,7 @@ impl MeshAccess for TraceScene {
 fn crossings(s: &TraceScene, ray: &Ray, find: impl Fn(&TraceScene, &Ray, f32, f32) -> Option<Hit>) -> u32 {
     let (mut n, mut t) = (0, 0.0);
     while let Some(h) = find(s, ray, t, f32::INFINITY) {
-        if h.object != 0 {
+        if h.object != ObjectId::bounded(0) {
             break;
         }
         n += 1;
@@ -439,11 +441,15 @@ fn check(
     let got = find(scene, ray, 0.0, t_max);
     match (row.expect)(scene, ray) {
         Expect::Miss => {
-            assert!(got.is_none_or(|h| h.object != 0), "{}: {name} found {got:?}, expected a miss", row.name)
+            assert!(
+                got.is_none_or(|h| h.object != ObjectId::bounded(0)),
+                "{}: {name} found {got:?}, expected a miss",
+                row.name
+            )
         }
         Expect::Hit { t, tol, object } => {
             let h = got.unwrap_or_else(|| panic!("{}: {name} missed, expected t = {t}", row.name));
-            assert_eq!(h.object, object, "{}: {name} hit the wrong object", row.name);
+            assert_eq!(h.object, ObjectId::bounded(object), "{}: {name} hit the wrong object", row.name);
             assert!(
                 ((h.t as f64) - t).abs() <= tol * t.abs().max(1.0),
                 "{}: {name} t = {}, expected {t}",
@@ -654,7 +660,7 @@ fn check_box_contacts<S: PrimitiveStore>(layout: &str) {
         {
             let h = find(&scene, ray, 0.0, f32::INFINITY)
                 .unwrap_or_else(|| panic!("{layout} {walk}, {name}: missed"));
-            assert_eq!((h.object, h.t), (0, *t), "{layout} {walk}, {name}");
+            assert_eq!((h.object, h.t), (ObjectId::bounded(0), *t), "{layout} {walk}, {name}");
             let sp = scene.store.surface(&h, ray);
             assert!(sp.point.is_finite() && sp.error.is_finite() && sp.normal.is_finite(), "{name}: {sp:?}");
             assert_eq!(sp.point, ray.at(*t), "{layout}, {name}: the hit point");
@@ -667,7 +673,7 @@ fn check_box_contacts<S: PrimitiveStore>(layout: &str) {
             "{name}"
         );
         let h = closest_hit(&scene, ray, 0.0, f32::INFINITY);
-        assert!(h.is_none_or(|h| h.object != 0), "{layout}, {name}: {h:?}");
+        assert!(h.is_none_or(|h| h.object != ObjectId::bounded(0)), "{layout}, {name}: {h:?}");
     }
 }
 
@@ -726,7 +732,7 @@ fn secondary_rays_from_a_tiny_sphere_reach_a_neighbour_half_a_radius_away_at_any
             DVec3::new(0.6, 0.48, 0.64) * distance + DVec3::new(0.37, -0.21, -0.5)
         };
         let (scene, a, b) = neighbours(distance, camera, r);
-        let name = |object: u32| scene.object_names[object as usize].as_str();
+        let name = |object: ObjectId| scene.object_names[object_index(&scene, object) as usize].as_str();
         let at = |ray: &Ray| {
             let h = closest_hit(&scene, ray, 0.0, f32::INFINITY)
                 .unwrap_or_else(|| panic!("distance {distance}: {ray:?} missed"));

@@ -309,9 +309,12 @@ fn adaptive_supersampling_blurs_too_and_keeps_its_bits_on_any_thread_count() {
     let (two, _) = blurred(&desc, script, 2);
     assert_eq!(pixels(&one), pixels(&two));
     assert_eq!(stats.motion.timed_samples, stats.adaptive.traced, "one time per lattice point");
-    // The streak is there: many pixels partly covered along the middle row, none full (the
-    // sphere spends a quarter of the shutter over any point of its path).
+    // The streak is there: pixels partly covered along the middle row, none full (the sphere
+    // spends a quarter of the shutter over any point of its path). A still ball would cover a
+    // few pixels fully and leave two or three partial at its edges. How many are partial
+    // depends on the draw: each lattice point takes one time, so a pixel whose four corners
+    // all miss the ball is not refined (this draw: 11 of 32; an earlier one gave 17).
     let row: Vec<f32> = (0..32).map(|x| one.get(x, 15).x).collect();
     let partial = row.iter().filter(|&&v| v > 0.02 && v < 0.6).count();
-    assert!(partial > 16, "no streak under adaptive sampling: {row:?}");
+    assert!(partial >= 8 && row.iter().all(|&v| v < 0.6), "no streak under adaptive sampling: {row:?}");
 }

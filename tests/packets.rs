@@ -141,7 +141,7 @@ fn packet<S: PrimitiveStore>(rng: &mut StdRng, scene: &TraceScene<S>, kind: Kind
     p
 }
 
-fn bits(h: Option<Hit>) -> Option<(u32, u32, u32, u32, u32)> {
+fn bits(h: Option<Hit>) -> Option<(u32, penumbra::store::ObjectId, u32, u32, u32)> {
     h.map(|h| (h.t.to_bits(), h.object, h.prim, h.u.to_bits(), h.v.to_bits()))
 }
 

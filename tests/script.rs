@@ -663,3 +663,28 @@ fn an_error_in_a_replayed_frame_still_stops_the_run() {
         "errors of replayed frames still stop the run"
     );
 }
+
+/// A value a script writes and the same value in a scene file are checked by one rule and
+/// refused in the same words: the script's message ends with the rule the file's error gives.
+#[test]
+fn a_script_write_and_a_scene_file_value_break_the_same_rule_in_the_same_words() {
+    let cases = [
+        ("camera.fov = 200.0;", "fov_deg: 45", "fov_deg: 200"),
+        ("camera.aperture = -1.0;", "fov_deg: 45", "fov_deg: 45, aperture: -1"),
+        (
+            "let b = entity(\"ball\"); b.kd = vec3(1.5, 0.1, 0.1);",
+            "kd: (0.8, 0.1, 0.1)",
+            "kd: (1.5, 0.1, 0.1)",
+        ),
+        ("let b = entity(\"ball\"); b.shininess = -2.0;", "shininess: 30", "shininess: -2"),
+    ];
+    for (write, from, to) in cases {
+        let file = SCENE.replacen(from, to, 1);
+        assert_ne!(file, SCENE, "{to}");
+        let Err(scene::SceneError::Invalid { rule, .. }) = scene::parse_scene(&file, "same.ron") else {
+            panic!("the file with `{to}` must be refused");
+        };
+        let e = frame_error(&format!("fn frame(t) {{ {write} }}"), Limits::default());
+        assert!(e.message.ends_with(&rule), "script `{write}`: `{}`\nfile `{to}`: `{rule}`", e.message);
+    }
+}

@@ -424,11 +424,14 @@ mod tests {
         assert_eq!(html.matches("<tr class=\"pareto\">").count(), 1);
     }
 
-    /// Writes the page and plots of the synthetic report to `$PENUMBRA_PLOT_DIR` for looking at.
+    /// A tool, not a test: writes the page and plots of the synthetic report for a person to look at,
+    /// into `$PENUMBRA_PLOT_DIR` (default `target/inspect`). Run it with
+    /// `cargo test --release --lib a_page_can_be_written_for_inspection -- --ignored`.
     #[test]
+    #[ignore = "writes files for inspection; asserts nothing"]
     fn a_page_can_be_written_for_inspection() {
-        let Some(dir) = std::env::var_os("PENUMBRA_PLOT_DIR") else { return };
-        let dir = PathBuf::from(dir);
+        let dir = std::env::var_os("PENUMBRA_PLOT_DIR")
+            .map_or_else(|| PathBuf::from("target/inspect"), PathBuf::from);
         std::fs::create_dir_all(&dir).unwrap();
         write_index(&synthetic_report(), &dir).unwrap();
     }

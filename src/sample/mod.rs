@@ -6,6 +6,7 @@
 //! samples until a pixel's estimated noise is below a target ([`noise`]).
 
 pub mod adaptive;
+pub mod dims;
 pub mod noise;
 pub mod pattern;
 pub mod rng;

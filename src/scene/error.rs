@@ -28,11 +28,12 @@ pub enum SceneError {
         source: std::io::Error,
     },
     /// The scene text is malformed or breaks a rule of the format.
-    #[error("{}:{line}:{col}: field `{}`: {}", escaped(path), shown(field), one_line(rule, MAX_LINE_CHARS))]
+    #[error("{}: field `{}`: {}", located(path, *line, *col), shown(field), one_line(rule, MAX_LINE_CHARS))]
     Invalid {
         /// Where the text came from: the file path as given, or `<built-in default scene>`.
         path: String,
-        /// 1-based line of the offending value.
+        /// 1-based line of the offending value; 0 for a scene with no text (built in code by
+        /// [`super::SceneBuilder`]), whose errors show no position.
         line: usize,
         /// 1-based column of the offending value, counted in characters.
         col: usize,
@@ -41,6 +42,14 @@ pub enum SceneError {
         /// What is wrong and what is allowed, e.g. `must be in [0, 1], got 1.2`.
         rule: String,
     },
+}
+
+/// `path:line:col`, or `path` alone where there is no text (`line` 0).
+fn located(path: &str, line: usize, col: usize) -> String {
+    match line {
+        0 => escaped(path).into_owned(),
+        _ => format!("{}:{line}:{col}", escaped(path)),
+    }
 }
 
 /// How many characters of a name or value [`shown`] keeps.

@@ -42,10 +42,22 @@ pub fn parse_scene(text: &str, origin: &str) -> Result<SceneDesc, SceneError> {
 
 /// [`parse_scene`], with the meshes it names read relative to `base`.
 pub fn parse_scene_at(text: &str, origin: &str, base: &Path) -> Result<SceneDesc, SceneError> {
-    let mut scene = ron::Options::default()
+    let scene = ron::Options::default()
         .with_default_extension(Extensions::IMPLICIT_SOME)
         .from_str::<SceneDesc>(text)
         .map_err(|error| from_ron(text, origin, &error))?;
+    finish_scene(scene, origin, base, text)
+}
+
+/// Checks a deserialized scene by every rule of the format and loads what it names (meshes
+/// relative to `base`, textures), the one path both scene files and [`super::SceneBuilder`]
+/// take; `text` is the source positions are looked up in (empty where there is none).
+pub(crate) fn finish_scene(
+    mut scene: SceneDesc,
+    origin: &str,
+    base: &Path,
+    text: &str,
+) -> Result<SceneDesc, SceneError> {
     validate(&scene).map_err(|violation| {
         let (line, col) = position_of(text, &violation.path).unwrap_or((1, 1));
         invalid(origin, (line, col), &violation.path, violation.rule)

@@ -14,9 +14,11 @@
 //! [`inputs`] lists and hashes the files a frame is made from (scene, script, meshes).
 //! [`limits`] checks what fields produce together (world-space sizes, the lens, summed
 //! radiance).
+//! [`SceneBuilder`] puts the same description together in code, checked by the same rules.
 //! [`ray_tree`] bounds a camera sample's ray tree and warns when the ray budget would cut it.
 //!
 //! [`validate`]: validate::validate
+pub mod builder;
 pub mod error;
 pub mod format;
 pub mod inputs;
@@ -32,9 +34,12 @@ pub mod spawn;
 pub mod texture;
 pub mod validate;
 
+pub use builder::SceneBuilder;
 pub use error::SceneError;
 pub use format::*;
 pub use load::{
     default_scene, load_scene, parse_scene, parse_scene_at, DEFAULT_SCENE_ORIGIN, DEFAULT_SCENE_SOURCE,
 };
 pub use spawn::spawn_world;
+
+pub(crate) use load::finish_scene;

@@ -8,7 +8,7 @@
 //! camera sample's share of `settings.glossy.samples` rays per branch. Glass with both `kr`
 //! and `kt` therefore doubles the tree at every bounce: with `min_contribution: 0` and
 //! `max_depth: 64` one camera sample would trace about 2^65 rays. The renderer cuts such a
-//! tree at the budget (`trace::integrator::RayBudget`); these warnings say so before it
+//! tree at the budget (`trace::path::RayBudget`); these warnings say so before it
 //! starts, naming the material and the fields to change.
 
 use super::format::{MaterialDesc, SceneDesc};

@@ -9,6 +9,7 @@ use super::packet::{self, PacketHits};
 use super::{
     Hit, MaterialId, PlacedObject, PrimitiveStore, SurfacePoint, Tally, TraversalCost, TriangleLayout,
 };
+use super::{ObjectId, Stored};
 use crate::geom::mesh::MeshData;
 use crate::geom::triangle::{self, TriangleHit, WatertightRay};
 use crate::geom::{sphere, Placed};
@@ -152,19 +153,34 @@ impl PrimitiveStore for AosStore {
         match &self.objects[id as usize].shape {
             AosShape::Sphere { centre, radius } => {
                 cost.tests(1);
-                sphere::intersect(*centre, *radius, ray, t_min, t_max).map(|t| Hit::new(t, id, 0))
+                sphere::intersect(*centre, *radius, ray, t_min, t_max)
+                    .map(|t| Hit::new(t, ObjectId::bounded(id), 0))
             }
             AosShape::Triangles { first, count } => {
                 cost.tests(*count);
-                super::triangle_range_hit(&self.triangles, id, *first, *count, ray, t_min, t_max)
+                super::triangle_range_hit(
+                    &self.triangles,
+                    ObjectId::bounded(id),
+                    *first,
+                    *count,
+                    ray,
+                    t_min,
+                    t_max,
+                )
             }
             AosShape::Cuboid { to_object, min, max } => {
                 cost.tests(1);
-                super::cuboid_hit(to_object, *min, *max, id, ray, t_min, t_max)
+                super::cuboid_hit(to_object, *min, *max, ObjectId::bounded(id), ray, t_min, t_max)
             }
-            AosShape::Instance { to_object, mesh } => {
-                mesh::instance_hit(&self.meshes[*mesh as usize], to_object, id, ray, t_min, t_max, cost)
-            }
+            AosShape::Instance { to_object, mesh } => mesh::instance_hit(
+                &self.meshes[*mesh as usize],
+                to_object,
+                ObjectId::bounded(id),
+                ray,
+                t_min,
+                t_max,
+                cost,
+            ),
         }
     }
 
@@ -189,16 +205,23 @@ impl PrimitiveStore for AosStore {
         match &self.objects[id as usize].shape {
             AosShape::Instance { to_object, mesh } => {
                 let mesh = &self.meshes[*mesh as usize];
-                packet::instance_hits(mesh, to_object, id, packet, live, hits, cost)
+                packet::instance_hits(mesh, to_object, ObjectId::bounded(id), packet, live, hits, cost)
             }
-            AosShape::Triangles { first, count } => {
-                packet::triangle_range_hits(&self.triangles, id, *first, *count, packet, live, hits, cost)
-            }
+            AosShape::Triangles { first, count } => packet::triangle_range_hits(
+                &self.triangles,
+                ObjectId::bounded(id),
+                *first,
+                *count,
+                packet,
+                live,
+                hits,
+                cost,
+            ),
             AosShape::Sphere { centre, radius } => {
-                packet::sphere_hits(*centre, *radius, id, packet, live, hits, cost)
+                packet::sphere_hits(*centre, *radius, ObjectId::bounded(id), packet, live, hits, cost)
             }
             AosShape::Cuboid { to_object, min, max } => {
-                packet::cuboid_hits(to_object, *min, *max, id, packet, live, hits, cost)
+                packet::cuboid_hits(to_object, *min, *max, ObjectId::bounded(id), packet, live, hits, cost)
             }
         }
     }
@@ -233,7 +256,7 @@ impl PrimitiveStore for AosStore {
         if let AosShape::Instance { to_object, mesh } = &self.objects[id as usize].shape {
             let local = mesh::object_ray(to_object, ray);
             return mesh::intersect_brute(&self.meshes[*mesh as usize], &local, t_min, t_max)
-                .map(|(k, h)| Hit::triangle(id, k, &h));
+                .map(|(k, h)| Hit::triangle(ObjectId::bounded(id), k, &h));
         }
         self.intersect_bounded(id, ray, t_min, t_max, &mut super::NoTally)
     }
@@ -251,10 +274,10 @@ impl PrimitiveStore for AosStore {
 
     #[inline]
     fn material(&self, hit: &Hit) -> MaterialId {
-        if hit.object & super::UNBOUNDED_FLAG != 0 {
-            return self.planes[(hit.object & !super::UNBOUNDED_FLAG) as usize].material;
-        }
-        let obj = &self.objects[hit.object as usize];
+        let obj = match hit.stored() {
+            Stored::Plane(i) => return self.planes[i].material,
+            Stored::Bounded(o) => &self.objects[o],
+        };
         match &obj.shape {
             AosShape::Instance { mesh, .. } => {
                 self.meshes[*mesh as usize].face_material(obj.material, hit.prim)
@@ -264,11 +287,13 @@ impl PrimitiveStore for AosStore {
     }
 
     fn surface(&self, hit: &Hit, ray: &Ray) -> SurfacePoint {
-        if hit.object & super::UNBOUNDED_FLAG != 0 {
-            let p = &self.planes[(hit.object & !super::UNBOUNDED_FLAG) as usize];
-            return super::plane_surface(p.normal, p.offset, hit, ray, p.material);
-        }
-        let obj = &self.objects[hit.object as usize];
+        let obj = match hit.stored() {
+            Stored::Plane(i) => {
+                let p = &self.planes[i];
+                return super::plane_surface(p.normal, p.offset, hit, ray, p.material);
+            }
+            Stored::Bounded(o) => &self.objects[o],
+        };
         match &obj.shape {
             AosShape::Sphere { centre, radius } => {
                 super::sphere_surface(*centre, *radius, hit, ray, obj.material)
@@ -287,11 +312,10 @@ impl PrimitiveStore for AosStore {
 
     fn uv(&self, hit: &Hit, point: Vec3, origin: glam::DVec3) -> crate::geom::uv::SurfaceUv {
         use crate::geom::uv;
-        if hit.object & super::UNBOUNDED_FLAG != 0 {
-            let p = &self.planes[(hit.object & !super::UNBOUNDED_FLAG) as usize];
-            return uv::planar(p.normal, point, origin);
-        }
-        let obj = &self.objects[hit.object as usize];
+        let obj = match hit.stored() {
+            Stored::Plane(i) => return uv::planar(self.planes[i].normal, point, origin),
+            Stored::Bounded(o) => &self.objects[o],
+        };
         match &obj.shape {
             AosShape::Sphere { centre, .. } => uv::sphere(*centre, point),
             AosShape::Triangles { first, .. } => {

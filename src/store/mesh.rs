@@ -9,7 +9,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use super::{MaterialId, TriangleLayout};
+use super::{MaterialId, ObjectId, TriangleLayout};
 use crate::accel::{walk, GridBuilder, Tally, UniformGrid};
 use crate::geom::mesh::MeshData;
 use crate::geom::triangle::{self, nearest_in_block, TriangleBlock, TriangleHit, WatertightRay};
@@ -272,7 +272,7 @@ pub fn intersect_brute<L: TriangleLayout>(
 pub fn instance_hit<L: TriangleLayout, T: Tally>(
     mesh: &MeshEntry<L>,
     to_object: &Affine3A,
-    object: u32,
+    object: ObjectId,
     ray: &Ray,
     t_min: f32,
     t_max: f32,

@@ -3,7 +3,8 @@
 //!
 //! Objects are numbered by the caller: bounded objects `0..bounded_count()` in the order the
 //! grid indexes them, unbounded ones (planes) tested on every ray. Mesh instances are bounded
-//! objects that point at a shared [`MeshEntry`]: the bottom level of the two-level grid.
+//! objects that point at a shared [`MeshEntry`]: the bottom level of the two-level grid. A hit
+//! names its object with an [`ObjectId`] (bounded, plane, or moving), decoded in one place.
 //!
 //! Two layouts implement the trait on one code path: [`SoaStore`] (one array per coordinate)
 //! and [`AosStore`] (one struct per primitive). The tracer is generic over the store, so the
@@ -11,6 +12,7 @@
 
 pub mod aos;
 pub mod mesh;
+mod object_id;
 pub mod packet;
 pub mod soa;
 
@@ -18,6 +20,7 @@ use std::sync::Arc;
 
 pub use aos::{AosStore, AosTriangles};
 pub use mesh::{MeshAsset, MeshEntry};
+pub use object_id::{ObjectId, ObjectKind};
 pub use packet::PacketHits;
 pub use soa::{SoaStore, SoaTriangles};
 
@@ -33,16 +36,13 @@ use crate::math::{offset_origin, Ray, RayPacket, Vec2, Vec3};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
 pub struct MaterialId(pub u32);
 
-/// Flag bit marking an unbounded object in [`Hit::object`].
-pub const UNBOUNDED_FLAG: u32 = 1 << 31;
-
 /// A ray/object intersection, before shading.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Hit {
     /// Ray parameter.
     pub t: f32,
-    /// Object: a bounded object id, or a plane index with [`UNBOUNDED_FLAG`] set.
-    pub object: u32,
+    /// The object: bounded, a plane, or moving.
+    pub object: ObjectId,
     /// Detail within the object: the triangle index of a triangle set or mesh, the face code
     /// of a box.
     pub prim: u32,
@@ -55,15 +55,35 @@ pub struct Hit {
 impl Hit {
     /// A hit with no barycentrics (spheres, boxes, planes).
     #[inline]
-    pub fn new(t: f32, object: u32, prim: u32) -> Self {
+    pub fn new(t: f32, object: ObjectId, prim: u32) -> Self {
         Self { t, object, prim, u: 0.0, v: 0.0 }
     }
 
     /// A triangle hit.
     #[inline]
-    pub fn triangle(object: u32, prim: u32, h: &TriangleHit) -> Self {
+    pub fn triangle(object: ObjectId, prim: u32, h: &TriangleHit) -> Self {
         Self { t: h.t, object, prim, u: h.u, v: h.v }
     }
+
+    /// Where a store finds this hit's object: its planes or its bounded objects. A moving
+    /// object's hit is shaded from the snapshot's motion ([`crate::trace::SceneMotion`]),
+    /// never looked up in a store.
+    #[inline]
+    pub(crate) fn stored(&self) -> Stored {
+        match self.object.kind() {
+            ObjectKind::Plane(i) => Stored::Plane(i as usize),
+            ObjectKind::Bounded(o) => Stored::Bounded(o as usize),
+            ObjectKind::Moving(_) => unreachable!("a moving object's hit is not a store's"),
+        }
+    }
+}
+
+/// A stored object's index, by table: [`Hit::stored`].
+pub(crate) enum Stored {
+    /// Index into the planes.
+    Plane(usize),
+    /// Index into the bounded objects.
+    Bounded(usize),
 }
 
 /// What one ray's traversal cost: grid cells visited and primitives tested, both levels. The
@@ -234,7 +254,7 @@ pub trait PrimitiveStore: Send + Sync + Sized + std::fmt::Debug + 'static {
     fn intersect_unbounded(&self, i: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
         let (normal, offset) = self.unbounded_plane(i);
         crate::geom::plane::intersect(normal, offset, ray, t_min, t_max)
-            .map(|t| Hit::new(t, i | UNBOUNDED_FLAG, 0))
+            .map(|t| Hit::new(t, ObjectId::plane(i), 0))
     }
     /// The packet form of [`PrimitiveStore::intersect_unbounded`]: each `live` lane's hit with
     /// unbounded object `i` within `(t_min, bound)` goes to `record(lane, hit)`, lane-wise
@@ -251,7 +271,7 @@ pub trait PrimitiveStore: Send + Sync + Sized + std::fmt::Debug + 'static {
     ) {
         let (normal, offset) = self.unbounded_plane(i);
         crate::geom::plane::intersect_lanes(normal, offset, packet, live, t_min, bound, |lane, t| {
-            record(lane, Hit::new(t, i | UNBOUNDED_FLAG, 0))
+            record(lane, Hit::new(t, ObjectId::plane(i), 0))
         });
     }
     /// Material of the object hit.
@@ -272,7 +292,7 @@ pub trait PrimitiveStore: Send + Sync + Sized + std::fmt::Debug + 'static {
 #[inline]
 pub(crate) fn triangle_range_hit<L: TriangleLayout>(
     tris: &L,
-    object: u32,
+    object: ObjectId,
     first: u32,
     count: u32,
     ray: &Ray,
@@ -297,7 +317,7 @@ pub(crate) fn cuboid_hit(
     to_object: &crate::math::Affine3A,
     min: Vec3,
     max: Vec3,
-    object: u32,
+    object: ObjectId,
     ray: &Ray,
     t_min: f32,
     t_max: f32,
@@ -308,7 +328,7 @@ pub(crate) fn cuboid_hit(
 
 /// A box hit as a [`Hit`]: the face (axis and sign of its normal) encoded in `prim`.
 #[inline]
-pub(crate) fn cuboid_face_hit(object: u32, h: &crate::geom::cuboid::CuboidHit) -> Hit {
+pub(crate) fn cuboid_face_hit(object: ObjectId, h: &crate::geom::cuboid::CuboidHit) -> Hit {
     let n = h.local_normal;
     let axis = if n.x != 0.0 {
         0

@@ -5,7 +5,7 @@
 // Lane loops index several parallel lane arrays by the same lane number.
 #![allow(clippy::needless_range_loop)]
 
-use super::{Hit, MeshEntry, TraversalCost, TriangleLayout};
+use super::{Hit, MeshEntry, ObjectId, TraversalCost, TriangleLayout};
 use crate::accel::packet::{coherent_walk, PacketSink};
 use crate::geom::triangle::{triangle_lanes, TriangleHit, WatertightPacket};
 use crate::math::{Aabb, RayPacket};
@@ -132,7 +132,7 @@ pub fn lane_by_lane<const N: usize, S: super::PrimitiveStore>(
 pub fn instance_hits<const N: usize, L: TriangleLayout>(
     mesh: &MeshEntry<L>,
     to_object: &crate::math::Affine3A,
-    object: u32,
+    object: ObjectId,
     packet: &RayPacket<N>,
     live: &[bool; N],
     hits: &mut PacketHits<N>,
@@ -149,7 +149,7 @@ pub fn instance_hits<const N: usize, L: TriangleLayout>(
 #[allow(clippy::too_many_arguments)]
 pub fn triangle_range_hits<const N: usize, L: TriangleLayout>(
     triangles: &L,
-    object: u32,
+    object: ObjectId,
     first: u32,
     count: u32,
     packet: &RayPacket<N>,
@@ -232,7 +232,7 @@ pub fn occluded_lane_by_lane<const N: usize, S: super::PrimitiveStore>(
 pub fn sphere_hits<const N: usize>(
     centre: crate::math::Vec3,
     radius: f32,
-    object: u32,
+    object: ObjectId,
     packet: &RayPacket<N>,
     live: &[bool; N],
     hits: &mut PacketHits<N>,
@@ -268,7 +268,7 @@ pub fn cuboid_hits<const N: usize>(
     to_object: &crate::math::Affine3A,
     min: crate::math::Vec3,
     max: crate::math::Vec3,
-    object: u32,
+    object: ObjectId,
     packet: &RayPacket<N>,
     live: &[bool; N],
     hits: &mut PacketHits<N>,

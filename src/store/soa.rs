@@ -12,6 +12,7 @@ use super::packet::{self, PacketHits};
 use super::{
     Hit, MaterialId, PlacedObject, PrimitiveStore, SurfacePoint, Tally, TraversalCost, TriangleLayout,
 };
+use super::{ObjectId, Stored};
 use crate::geom::mesh::MeshData;
 use crate::geom::triangle::{self, TriangleHit, WatertightRay};
 use crate::geom::{sphere, Placed};
@@ -233,12 +234,20 @@ impl PrimitiveStore for SoaStore {
             Kind::Sphere => {
                 cost.tests(1);
                 sphere::intersect(self.centre.get(first), self.radius[first], ray, t_min, t_max)
-                    .map(|t| Hit::new(t, id, 0))
+                    .map(|t| Hit::new(t, ObjectId::bounded(id), 0))
             }
             Kind::Triangles => {
                 let count = self.count[o];
                 cost.tests(count);
-                super::triangle_range_hit(&self.triangles, id, first as u32, count, ray, t_min, t_max)
+                super::triangle_range_hit(
+                    &self.triangles,
+                    ObjectId::bounded(id),
+                    first as u32,
+                    count,
+                    ray,
+                    t_min,
+                    t_max,
+                )
             }
             Kind::Cuboid => {
                 cost.tests(1);
@@ -247,7 +256,7 @@ impl PrimitiveStore for SoaStore {
                     &to_object,
                     self.box_min.get(first),
                     self.box_max.get(first),
-                    id,
+                    ObjectId::bounded(id),
                     ray,
                     t_min,
                     t_max,
@@ -255,7 +264,15 @@ impl PrimitiveStore for SoaStore {
             }
             Kind::Instance => {
                 let mesh = &self.meshes[self.instance_mesh[first] as usize];
-                mesh::instance_hit(mesh, &self.instance_to_object.get(first), id, ray, t_min, t_max, cost)
+                mesh::instance_hit(
+                    mesh,
+                    &self.instance_to_object.get(first),
+                    ObjectId::bounded(id),
+                    ray,
+                    t_min,
+                    t_max,
+                    cost,
+                )
             }
         }
     }
@@ -288,11 +305,11 @@ impl PrimitiveStore for SoaStore {
                 let i = first as usize;
                 let mesh = &self.meshes[self.instance_mesh[i] as usize];
                 let to_object = self.instance_to_object.get(i);
-                packet::instance_hits(mesh, &to_object, id, packet, live, hits, cost)
+                packet::instance_hits(mesh, &to_object, ObjectId::bounded(id), packet, live, hits, cost)
             }
             Kind::Triangles => packet::triangle_range_hits(
                 &self.triangles,
-                id,
+                ObjectId::bounded(id),
                 first,
                 self.count[o],
                 packet,
@@ -302,12 +319,29 @@ impl PrimitiveStore for SoaStore {
             ),
             Kind::Sphere => {
                 let i = first as usize;
-                packet::sphere_hits(self.centre.get(i), self.radius[i], id, packet, live, hits, cost)
+                packet::sphere_hits(
+                    self.centre.get(i),
+                    self.radius[i],
+                    ObjectId::bounded(id),
+                    packet,
+                    live,
+                    hits,
+                    cost,
+                )
             }
             Kind::Cuboid => {
                 let i = first as usize;
                 let (min, max) = (self.box_min.get(i), self.box_max.get(i));
-                packet::cuboid_hits(&self.box_to_object.get(i), min, max, id, packet, live, hits, cost)
+                packet::cuboid_hits(
+                    &self.box_to_object.get(i),
+                    min,
+                    max,
+                    ObjectId::bounded(id),
+                    packet,
+                    live,
+                    hits,
+                    cost,
+                )
             }
         }
     }
@@ -357,7 +391,8 @@ impl PrimitiveStore for SoaStore {
             let i = self.first[o] as usize;
             let mesh = &self.meshes[self.instance_mesh[i] as usize];
             let local = mesh::object_ray(&self.instance_to_object.get(i), ray);
-            return mesh::intersect_brute(mesh, &local, t_min, t_max).map(|(k, h)| Hit::triangle(id, k, &h));
+            return mesh::intersect_brute(mesh, &local, t_min, t_max)
+                .map(|(k, h)| Hit::triangle(ObjectId::bounded(id), k, &h));
         }
         self.intersect_bounded(id, ray, t_min, t_max, &mut super::NoTally)
     }
@@ -374,10 +409,10 @@ impl PrimitiveStore for SoaStore {
 
     #[inline]
     fn material(&self, hit: &Hit) -> MaterialId {
-        if hit.object & super::UNBOUNDED_FLAG != 0 {
-            return self.plane_material[(hit.object & !super::UNBOUNDED_FLAG) as usize];
-        }
-        let o = hit.object as usize;
+        let o = match hit.stored() {
+            Stored::Plane(i) => return self.plane_material[i],
+            Stored::Bounded(o) => o,
+        };
         match self.kind[o] {
             Kind::Instance => {
                 let mesh = &self.meshes[self.instance_mesh[self.first[o] as usize] as usize];
@@ -388,12 +423,19 @@ impl PrimitiveStore for SoaStore {
     }
 
     fn surface(&self, hit: &Hit, ray: &Ray) -> SurfacePoint {
-        if hit.object & super::UNBOUNDED_FLAG != 0 {
-            let i = (hit.object & !super::UNBOUNDED_FLAG) as usize;
-            let material = self.plane_material[i];
-            return super::plane_surface(self.plane_normal.get(i), self.plane_offset[i], hit, ray, material);
-        }
-        let o = hit.object as usize;
+        let o = match hit.stored() {
+            Stored::Plane(i) => {
+                let material = self.plane_material[i];
+                return super::plane_surface(
+                    self.plane_normal.get(i),
+                    self.plane_offset[i],
+                    hit,
+                    ray,
+                    material,
+                );
+            }
+            Stored::Bounded(o) => o,
+        };
         let first = self.first[o] as usize;
         let material = self.material[o];
         match self.kind[o] {
@@ -420,11 +462,10 @@ impl PrimitiveStore for SoaStore {
 
     fn uv(&self, hit: &Hit, point: Vec3, origin: glam::DVec3) -> crate::geom::uv::SurfaceUv {
         use crate::geom::uv;
-        if hit.object & super::UNBOUNDED_FLAG != 0 {
-            let i = (hit.object & !super::UNBOUNDED_FLAG) as usize;
-            return uv::planar(self.plane_normal.get(i), point, origin);
-        }
-        let o = hit.object as usize;
+        let o = match hit.stored() {
+            Stored::Plane(i) => return uv::planar(self.plane_normal.get(i), point, origin),
+            Stored::Bounded(o) => o,
+        };
         let first = self.first[o] as usize;
         match self.kind[o] {
             Kind::Sphere => uv::sphere(self.centre.get(first), point),

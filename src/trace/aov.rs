@@ -4,14 +4,13 @@
 
 use rayon::prelude::*;
 
-use super::integrator::closest_hit;
-use super::motion::MOVING_FLAG;
-use super::render::RenderSettings;
 use super::scene::TraceScene;
+use super::settings::RenderSettings;
 use super::stats::RayCounts;
+use super::visibility::closest_hit;
 use crate::film::{AovSet, Aovs};
 use crate::math::Vec3;
-use crate::store::{PrimitiveStore, UNBOUNDED_FLAG};
+use crate::store::{ObjectId, ObjectKind, PrimitiveStore};
 
 /// The first-hit AOVs in `wanted` (cost is filled by the renderer), counting one `aov` ray per
 /// pixel when any first-hit AOV is wanted.
@@ -72,13 +71,11 @@ fn probe<S: PrimitiveStore>(scene: &TraceScene<S>, settings: &RenderSettings, x:
 }
 
 /// Index of a hit's object in [`TraceScene::object_names`] order: bounded objects first (grid
-/// ids), then unbounded ones.
-pub fn object_index<S: PrimitiveStore>(scene: &TraceScene<S>, object: u32) -> u32 {
-    if object & UNBOUNDED_FLAG != 0 {
-        scene.store.bounded_count() + (object & !UNBOUNDED_FLAG)
-    } else if object & MOVING_FLAG != 0 {
-        scene.store.bounded_count() + scene.store.unbounded_count() + (object & !MOVING_FLAG)
-    } else {
-        object
+/// ids), then unbounded ones, then moving ones.
+pub fn object_index<S: PrimitiveStore>(scene: &TraceScene<S>, object: ObjectId) -> u32 {
+    match object.kind() {
+        ObjectKind::Bounded(o) => o,
+        ObjectKind::Plane(i) => scene.store.bounded_count() + i,
+        ObjectKind::Moving(i) => scene.store.bounded_count() + scene.store.unbounded_count() + i,
     }
 }

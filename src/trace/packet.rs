@@ -11,7 +11,7 @@
 //!
 //! **Same answers as single rays.** Every lane's hit comes from the same primitive tests, with
 //! the same IEEE operations in the same order, as the single-ray path's
-//! ([`super::integrator::closest_hit`]): the kernels are the scalar ones written lane-wise, and
+//! ([`super::visibility::closest_hit`]): the kernels are the scalar ones written lane-wise, and
 //! a lane the vector kernel cannot decide (an edge function exactly zero) is handed to the
 //! scalar kernel. The walk only decides *which* primitives are tested: every primitive a lane
 //! could hit lies in a cell of the rectangle of the slice where it is hit (the rectangles are
@@ -40,7 +40,7 @@ pub const MIN_LANES: usize = 4;
 
 /// Every lane's nearest hit in the scene: planes lane by lane, then the top-level grid by
 /// coherent traversal (or lane by lane where the packet is not coherent). Equal, lane for lane,
-/// to [`super::integrator::closest_hit`]. `cost` gets the packet's cells and tests.
+/// to [`super::visibility::closest_hit`]. `cost` gets the packet's cells and tests.
 #[inline(always)]
 pub fn closest_hits<const N: usize, S: PrimitiveStore>(
     scene: &TraceScene<S>,
@@ -85,7 +85,7 @@ pub fn closest_hits<const N: usize, S: PrimitiveStore>(
             if packet.active[i] {
                 let ray = packet.ray(i);
                 let bound = hits.t[i];
-                let found = super::integrator::grid_hit(scene, &ray, packet.t_min[i], bound, cost);
+                let found = super::visibility::grid_hit(scene, &ray, packet.t_min[i], bound, cost);
                 hits.offer(i, found);
             }
         }
@@ -97,7 +97,7 @@ pub fn closest_hits<const N: usize, S: PrimitiveStore>(
 /// transmission (where a shadow ray's transmittance is 1 or 0): planes lane by lane, then the
 /// top-level grid by coherent traversal, a lane dropping out at its first blocker (or lane by
 /// lane where the packet is not coherent). Equal, lane for lane, to
-/// [`super::integrator::transmittance`] being 0. Shadow packets start at `t_min = 0`.
+/// [`super::visibility::transmittance`] being 0. Shadow packets start at `t_min = 0`.
 #[inline(always)]
 pub fn occluded<const N: usize, S: PrimitiveStore>(
     scene: &TraceScene<S>,
@@ -158,7 +158,7 @@ pub fn occluded<const N: usize, S: PrimitiveStore>(
 }
 
 /// Every active lane's shadow transmittance over `(0, t_max)`: equal, lane for lane, to
-/// [`super::integrator::transmittance`]. Opaque scenes trace the packet with [`occluded`] (1 or
+/// [`super::visibility::transmittance`]. Opaque scenes trace the packet with [`occluded`] (1 or
 /// 0); scenes with transmission with [`transmittances`]. Shadow packets start at `t_min = 0`.
 #[inline(always)]
 pub fn shadow_passes<const N: usize, S: PrimitiveStore>(
@@ -175,10 +175,10 @@ pub fn shadow_passes<const N: usize, S: PrimitiveStore>(
 
 /// Every active lane's shadow transmittance in a scene with transmission: planes lane by lane,
 /// then the top-level grid by coherent traversal. Each object met is handled whole for every
-/// walking lane, as a single ray handles it ([`super::integrator::object_transmittance`]: all
+/// walking lane, as a single ray handles it ([`super::visibility::object_transmittance`]: all
 /// its crossings, nearest first, each found by the packet kernels), and a lane drops out once an
 /// object blocks it. A lane's shares are multiplied in ascending object id
-/// ([`super::integrator::ordered_product`]), the order the single-ray walk uses too, so the
+/// ([`super::visibility::ordered_product`]), the order the single-ray walk uses too, so the
 /// product has the same bits although the packet meets the objects in another order. Lanes of
 /// a packet that cannot walk together are traced alone from the start.
 #[inline(always)]
@@ -187,7 +187,7 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
     packet: &RayPacket<N>,
     cost: &mut TraversalCost,
 ) -> [Vec3; N] {
-    use super::integrator::ordered_product;
+    use super::visibility::ordered_product;
     /// One object met by the walk: each lane's share, and which lanes have one.
     struct Met<const N: usize> {
         id: u32,
@@ -278,13 +278,13 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
         }
         shares.clear();
         shares.extend(met.iter().filter(|m| m.done[i]).map(|m| (m.id, m.share[i])));
-        pass[i] = ordered_product(pass[i], &mut shares);
+        pass[i] = ordered_product(pass[i], &shares);
     }
     pass
 }
 
 /// The planes' part of each active lane's shadow transmittance
-/// ([`super::integrator::planes_transmittance`]), and the lanes it leaves open.
+/// ([`super::visibility::planes_transmittance`]), and the lanes it leaves open.
 #[inline(always)]
 fn planes_part<const N: usize, S: PrimitiveStore>(
     scene: &TraceScene<S>,
@@ -333,7 +333,7 @@ fn alone<const N: usize, S: PrimitiveStore>(
 ) {
     for i in 0..N {
         if lanes[i] {
-            pass[i] = super::integrator::transmittance_tallied(scene, &packet.ray(i), packet.t_max[i], cost);
+            pass[i] = super::visibility::transmittance_tallied(scene, &packet.ray(i), packet.t_max[i], cost);
         }
     }
 }

@@ -2,11 +2,12 @@
 //! sample of an area light) adds `(kd·max(N·L, 0) + ks·max(R·V, 0)^shininess) × radiance ×
 //! transmittance` of its shadow ray.
 
-use super::integrator::{transmittance_at, EffectSamples, PathContext};
 use super::light::Light;
 use super::material::Material;
 use super::packet::{shadow_passes, LANES, MIN_LANES};
+use super::path::{EffectSamples, PathContext};
 use super::scene::TraceScene;
+use super::visibility::transmittance_at;
 use crate::math::{reflect, Ray, RayPacket, Vec3, SHADOW_EPSILON};
 use crate::simd::SimdLevel;
 use crate::store::{PrimitiveStore, TraversalCost};

@@ -7,9 +7,10 @@ use std::time::Instant;
 use glam::DVec3;
 use rayon::prelude::*;
 
+use super::camera_samples::{trace_camera_ray, CameraSampler};
 use super::finite::{DropTally, SampleMean};
-use super::render::{assemble, saturate, trace_camera_ray, Assembled, CameraSampler, TileResult, TILE};
 use super::stats::{NoiseStats, NoiseStop, RayCounts};
+use super::tiles::{assemble, saturate, Assembled, TileResult, TILE};
 use crate::math::Vec3;
 use crate::sample::noise::{next_batches, spread, NoiseSettings, PixelEstimate};
 use crate::store::PrimitiveStore;

@@ -5,7 +5,7 @@ use std::sync::Arc;
 use super::effects::Effects;
 use super::light::Light;
 use super::material::Material;
-use super::motion::{SceneMotion, MOVING_FLAG};
+use super::motion::SceneMotion;
 use crate::accel::{GridBuilder, UniformGrid};
 use crate::camera::Camera;
 use glam::DVec3;
@@ -13,15 +13,14 @@ use glam::DVec3;
 use crate::geom::uv::SurfaceUv;
 use crate::math::{Ray, Vec2, Vec3};
 use crate::store::{
-    Hit, MaterialId, MeshAsset, MeshEntry, PlacedObject, PrimitiveStore, SoaStore, SurfacePoint,
-    UNBOUNDED_FLAG,
+    Hit, MaterialId, MeshAsset, MeshEntry, ObjectKind, PlacedObject, PrimitiveStore, SoaStore, SurfacePoint,
 };
 use crate::texture::Texture;
 
-/// True when a hit is on a moving object ([`MOVING_FLAG`] set, the unbounded flag clear).
+/// True when a hit is on a moving object.
 #[inline]
 pub fn is_moving(hit: &Hit) -> bool {
-    hit.object & (MOVING_FLAG | UNBOUNDED_FLAG) == MOVING_FLAG
+    matches!(hit.object.kind(), ObjectKind::Moving(_))
 }
 
 /// Step in (u, v) of a bump map's finite differences.

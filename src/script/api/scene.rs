@@ -166,20 +166,7 @@ fn register_camera(engine: &mut Engine) {
 
 /// A camera the scene format accepts, to check one field against with the others valid.
 fn valid_camera_desc() -> CameraDesc {
-    CameraDesc {
-        position: DVec3::ZERO,
-        look_at: DVec3::Z,
-        up: Vec3::Y,
-        fov_deg: 45.0,
-        width: 1,
-        height: 1,
-        aperture: 0.0,
-        focus_distance: None,
-        focus_on: None,
-        lens: SamplingDesc::default(),
-        shutter: None,
-        time: SamplingDesc::default(),
-    }
+    CameraDesc::new(DVec3::ZERO, DVec3::Z, 45.0, 1, 1)
 }
 
 /// Checks one camera field against the scene format's rules, on an otherwise valid camera.

@@ -1,0 +1,36 @@
+//! Tests of `src/script/state.rs`.
+
+use super::*;
+
+#[test]
+fn degrees_round_trip_through_the_scene_rotation() {
+    for deg in
+        [DVec3::new(10.0, -35.0, 80.0), DVec3::new(0.0, 90.0 - 1e-3, 0.0), DVec3::new(-170.0, 5.0, 12.0)]
+    {
+        let q = rotation_from_degrees(deg);
+        let back = degrees_from_rotation(q);
+        assert!(rotation_from_degrees(back).angle_between(q) < 1e-5, "{deg} -> {back}");
+        assert!((back - deg).abs().max_element() < 1e-3, "{deg} -> {back}");
+    }
+}
+
+#[test]
+fn an_area_light_moves_by_its_centre() {
+    let rect = trace::Light::Rect {
+        corner: Vec3::ZERO,
+        edge_u: Vec3::X * 2.0,
+        edge_v: Vec3::Z,
+        radiance: Vec3::ONE,
+        samples: 4,
+        pattern: crate::sample::Pattern::Grid,
+        falloff: Default::default(),
+        visible: false,
+    };
+    let rect = Light::at(DVec3::ZERO, rect);
+    assert_eq!(light_position(&rect), Some(DVec3::new(1.0, 0.0, 0.5)));
+    // Far out, a move finer than f32's step there is kept.
+    let to = DVec3::new(1e6 + 0.01, 3.0, 0.5);
+    let moved = moved_light(&rect, to);
+    assert_eq!(light_position(&moved), Some(to));
+    assert_eq!(moved.position(), Some(DVec3::new(1e6 + 0.01 - 1.0, 3.0, 0.0)));
+}

@@ -1,0 +1,200 @@
+//! A frame's fixed camera samples: where each lands in its pixel (anti-aliasing pattern and
+//! filter), its lens point and shutter time, its sample key, and the path traced from it.
+
+use super::finite::SampleMean;
+use super::integrator::radiance;
+use super::path::{CameraSample, PathContext};
+use super::scene::TraceScene;
+use super::settings::{AntiAliasing, RenderSettings};
+use super::stats::RayCounts;
+
+use crate::math::{Ray, Vec2, Vec3};
+use crate::sample::dims;
+use crate::sample::pattern::{disk_point_in, square_point_in, strata};
+use crate::sample::rng::{permute, uniform2, Dimension, SampleKey};
+use crate::sample::warp::tent;
+use crate::sample::{Filter, Pattern};
+use crate::store::PrimitiveStore;
+
+/// A pixel as the mean of its fixed set of camera samples, less those dropped as non-finite,
+/// and how many were dropped.
+pub(super) fn fixed_pixel<S: PrimitiveStore>(
+    sampler: &CameraSampler<'_, S>,
+    x: u32,
+    y: u32,
+    rays: &mut RayCounts,
+) -> (Vec3, u32) {
+    let mut mean = SampleMean::default();
+    for sample in 0..sampler.n {
+        let (ray, camera, time) = sampler.sample(x, y, sample, rays);
+        mean.add(trace_camera_ray(sampler.scene, sampler.settings, &ray, camera, time, rays));
+    }
+    (mean.mean(), mean.dropped())
+}
+
+/// The fixed camera samples of a frame: what every sample shares (counts and their strata),
+/// worked out once rather than once per sample.
+pub(super) struct CameraSampler<'a, S: PrimitiveStore> {
+    pub(super) scene: &'a TraceScene<S>,
+    pub(super) settings: &'a RenderSettings,
+    /// AA positions per pixel, and their strata.
+    n_aa: u32,
+    aa_strata: (u32, u32),
+    /// Lens points per AA position (1 for a pinhole).
+    n_lens: u32,
+    /// Times per AA position and lens point (1 where nothing moves).
+    n_time: u32,
+    /// Whether pixels take batches of samples (noise-driven sampling): a single AA sample then
+    /// lands anywhere in the pixel instead of at its centre.
+    batched: bool,
+    /// Camera samples per pixel (`n_aa · n_lens · n_time`), and the strata lens points are
+    /// drawn from.
+    pub(super) n: u32,
+    lens_strata: (u32, u32),
+}
+
+impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
+    pub(super) fn new(scene: &'a TraceScene<S>, settings: &'a RenderSettings) -> Self {
+        let n_aa = settings.aa.sampling.samples.max(1);
+        let n_lens = if scene.camera.has_lens() { settings.lens.samples.max(1) } else { 1 };
+        let n_time = if scene.motion.is_some() { settings.time.samples.max(1) } else { 1 };
+        // The scene's camera-samples rule keeps the product within 32 bits.
+        let n = n_aa.saturating_mul(n_lens).saturating_mul(n_time);
+        let batched = settings.noise.is_some() && settings.adaptive.is_none();
+        Self {
+            scene,
+            settings,
+            n_aa,
+            aa_strata: strata(n_aa),
+            n_lens,
+            n_time,
+            batched,
+            n,
+            lens_strata: strata(n),
+        }
+    }
+
+    /// Camera sample `sample` of pixel `(x, y)`: its ray (counted as a camera or lens ray), its
+    /// key and its time in the shutter interval. Samples `i · n_lens · n_time ..` are AA
+    /// position `i` (through `n_lens` lens points, each at `n_time` times). Where something
+    /// moves, times are stratified over the pixel's samples (one stratum of `1/n` each, in an
+    /// order decorrelated from positions and lens points, placed by the time pattern);
+    /// elsewhere every time is 0 and none is drawn.
+    #[inline]
+    pub(super) fn sample(
+        &self,
+        x: u32,
+        y: u32,
+        sample: u32,
+        rays: &mut RayCounts,
+    ) -> (Ray, CameraSample, f32) {
+        self.sample_in(x, y, 0, sample, rays)
+    }
+
+    /// [`Self::sample`] of batch `batch` of the pixel: every batch is a whole stratified set of
+    /// `n` samples with patterns of its own (batch 0 is the fixed render's set), for
+    /// noise-driven sampling.
+    #[inline]
+    pub(super) fn sample_in(
+        &self,
+        x: u32,
+        y: u32,
+        batch: u32,
+        sample: u32,
+        rays: &mut RayCounts,
+    ) -> (Ray, CameraSample, f32) {
+        let (scene, settings) = (self.scene, self.settings);
+        let pixel = y * settings.width + x;
+        let patterns = SampleKey {
+            seed: settings.seed,
+            frame: settings.frame,
+            pixel,
+            sample: dims::PIXEL_PATTERNS - batch,
+        };
+        let i = sample / (self.n_lens * self.n_time);
+        let u = uniform2(&patterns, dims::PIXEL, i);
+        let offset = pixel_offset(&settings.aa, self.n_aa, self.aa_strata, i, u, self.batched);
+        let (px, py) = (x as f32 + offset.x, y as f32 + offset.y);
+        let time = match scene.motion {
+            Some(_) => {
+                rays.timed += 1;
+                let times = Dimension::new(&patterns, dims::TIME);
+                let k = permute(sample, self.n, times.hash(dims::PERMUTATION_SEED));
+                stratum_time(settings.time.pattern, k, self.n, times.uniform2(k).x)
+            }
+            None => 0.0,
+        };
+        let camera = scene.camera_at(time);
+        let ray = if camera.has_lens() {
+            // Lens points are stratified over all n samples, in an order decorrelated from the
+            // pixel positions.
+            let lens_points = Dimension::new(&patterns, dims::LENS);
+            let k = permute(sample, self.n, lens_points.hash(dims::PERMUTATION_SEED));
+            let lens = disk_point_in(settings.lens.pattern, self.lens_strata, k, lens_points.uniform2(k));
+            rays.lens += 1;
+            camera.lens_ray(px, py, settings.width, settings.height, lens)
+        } else {
+            rays.camera += 1;
+            camera.ray(px, py, settings.width, settings.height)
+        };
+        // Batches stay far below `dims::PIXEL_PATTERNS - batch` (the noise rules cap their samples).
+        let index = batch.wrapping_mul(self.n).wrapping_add(sample);
+        let key = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample: index };
+        (ray, CameraSample { key, pixel: patterns, slot: sample, spp: self.n }, time)
+    }
+}
+
+/// Time sample `k` of `n` placed by `pattern` with `u ∈ [0, 1)`: jittered, at offset `u` in
+/// stratum `[k/n, (k+1)/n)` (a sum that rounds up to the stratum's end is pulled back below
+/// it); grid, at the stratum's middle; random, `u` anywhere in `[0, 1)`.
+#[inline]
+pub(super) fn stratum_time(pattern: Pattern, k: u32, n: u32, u: f32) -> f32 {
+    let u = match pattern {
+        Pattern::Jittered => u,
+        Pattern::Grid => 0.5,
+        Pattern::Random => return u,
+    };
+    let t = (k as f32 + u) / n as f32;
+    t.min(((k + 1) as f32 / n as f32).next_down())
+}
+
+/// Where in the pixel (in pixel units from its top-left corner) sample `i` of `n` lands. A
+/// single sample goes through the pixel's centre, unless `batched`: one of many batches of
+/// noise-driven sampling, which together must cover the footprint.
+pub(super) fn pixel_offset(
+    aa: &AntiAliasing,
+    n: u32,
+    strata: (u32, u32),
+    i: u32,
+    u: Vec2,
+    batched: bool,
+) -> Vec2 {
+    if n == 1 && !batched {
+        return Vec2::splat(0.5);
+    }
+    let p = square_point_in(aa.sampling.pattern, strata, i, u);
+    match aa.filter {
+        Filter::Box => p,
+        Filter::Tent => Vec2::new(0.5 + tent(p.x), 0.5 + tent(p.y)),
+    }
+}
+
+pub(super) fn trace_camera_ray<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    settings: &RenderSettings,
+    ray: &Ray,
+    camera: CameraSample,
+    time: f32,
+    rays: &mut RayCounts,
+) -> Vec3 {
+    let mut ctx = PathContext::new(settings, camera, rays);
+    if scene.motion.is_some() {
+        ctx = ctx.at_time(time);
+    }
+    let colour = radiance(scene, ray, 0, 1.0, &mut ctx);
+    ctx.finish();
+    colour
+}
+
+#[cfg(test)]
+mod tests;

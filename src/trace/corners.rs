@@ -1,0 +1,168 @@
+//! Adaptive supersampling's renderer: the pixel corners of the whole image first, then each
+//! pixel subdivided where its corners disagree ([`crate::sample::adaptive`]).
+
+use std::collections::HashMap;
+
+use rayon::prelude::*;
+
+use super::camera_samples::{stratum_time, trace_camera_ray};
+use super::finite::{DropTally, SampleMean};
+use super::path::CameraSample;
+use super::scene::TraceScene;
+use super::settings::RenderSettings;
+use super::stats::{AdaptiveCounts, RayCounts};
+use super::tiles::{assemble, saturate, Assembled, TileResult, TILE};
+use crate::math::Vec3;
+use crate::sample::adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint};
+use crate::sample::dims;
+use crate::sample::pattern::disk_point;
+use crate::sample::rng::{permute, uniform2, SampleKey};
+use crate::sample::Pattern;
+use crate::store::PrimitiveStore;
+
+/// Adaptive supersampling: the `(W+1) × (H+1)` pixel corners first (each traced once), then
+/// every pixel refined by corner subdivision, tiles in parallel with a cache per tile. In the
+/// cost image a corner's rays count for the pixel whose top-left corner it is (clamped).
+/// Non-finite lattice samples are dropped by [`refine_pixel`] and counted per pixel.
+pub(super) fn render_adaptive<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    settings: &RenderSettings,
+    adaptive: &AdaptiveSettings,
+    want_cost: bool,
+    tile_done: &(dyn Fn() + Sync),
+) -> (Assembled, AdaptiveCounts) {
+    let (w, h) = (settings.width, settings.height);
+    let res = adaptive.resolution();
+    let point = |p: LatticePoint, rays: &mut RayCounts| {
+        crate::simd::with_single_ray_level(settings.simd, || lattice_sample(scene, settings, res, p, rays))
+    };
+
+    // Pass 1: the corner lattice, rows in parallel, with each corner's ray count.
+    let rows: Vec<(Vec<Vec3>, Vec<u32>, RayCounts)> = (0..=h)
+        .into_par_iter()
+        .map(|cy| {
+            let mut rays = RayCounts::default();
+            let mut costs = Vec::with_capacity(w as usize + 1);
+            let row = (0..=w)
+                .map(|cx| {
+                    let before = rays.total();
+                    let c = point(LatticePoint { x: cx * res, y: cy * res }, &mut rays);
+                    costs.push(saturate(rays.total() - before));
+                    c
+                })
+                .collect();
+            (row, costs, rays)
+        })
+        .collect();
+    let corner = |cx: u32, cy: u32| rows[cy as usize].0[cx as usize];
+
+    // Pass 2: refinement, tiles in parallel, each with its own cache and adaptive figures.
+    let tiles_x = w.div_ceil(TILE);
+    let refined: Vec<(TileResult, AdaptiveStats)> = (0..tiles_x * h.div_ceil(TILE))
+        .into_par_iter()
+        .map(|tile| {
+            let (x0, y0) = (tile % tiles_x * TILE, tile / tiles_x * TILE);
+            let mut rays = RayCounts::default();
+            let mut stats = AdaptiveStats::default();
+            let mut cache = HashMap::new();
+            let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
+            let mut costs = Vec::new();
+            let mut dropped = DropTally::default();
+            for y in y0..(y0 + TILE).min(h) {
+                for x in x0..(x0 + TILE).min(w) {
+                    let corners = [corner(x, y), corner(x + 1, y), corner(x, y + 1), corner(x + 1, y + 1)];
+                    let before = rays.total();
+                    let dropped_before = stats.dropped;
+                    let mut trace = |p: LatticePoint| point(p, &mut rays);
+                    pixels.push(refine_pixel(x, y, corners, adaptive, &mut cache, &mut trace, &mut stats));
+                    dropped.record(y * w + x, saturate(stats.dropped - dropped_before));
+                    if want_cost {
+                        costs.push(saturate(rays.total() - before));
+                    }
+                }
+            }
+            tile_done();
+            ((pixels, costs, rays, dropped), stats)
+        })
+        .collect();
+    let mut counts = AdaptiveCounts { traced: u64::from(w + 1) * u64::from(h + 1), ..Default::default() };
+    refined.iter().for_each(|(_, s)| {
+        counts.traced += s.traced;
+        counts.reused += s.reused;
+        counts.subdivisions += s.subdivisions;
+    });
+    let tiles: Vec<TileResult> = refined.into_iter().map(|(t, _)| t).collect();
+    let mut image = assemble(settings, &tiles, want_cost);
+    for (cy, (_, costs, row_rays)) in rows.iter().enumerate() {
+        image.rays.add(row_rays);
+        if let Some(cost) = image.cost.as_mut() {
+            let y = (cy as u32).min(h - 1);
+            for (cx, &n) in costs.iter().enumerate() {
+                cost[(y * w + (cx as u32).min(w - 1)) as usize] += n;
+            }
+        }
+    }
+    (image, counts)
+}
+
+/// The colour at a lattice point (image position `p / res`): one camera sample (with one lens
+/// point when the camera has an aperture), or where something moves, its share of the time
+/// samples, each at its own time and lens point; effect budgets are scaled to the area the
+/// point stands for. A pure function of the point's coordinates.
+pub(super) fn lattice_sample<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    settings: &RenderSettings,
+    res: u32,
+    p: LatticePoint,
+    rays: &mut RayCounts,
+) -> Vec3 {
+    let id = u64::from(p.y) * (u64::from(settings.width) * u64::from(res) + 1) + u64::from(p.x);
+    let key =
+        SampleKey { seed: settings.seed, frame: settings.frame, pixel: id as u32, sample: (id >> 32) as u32 };
+    let (px, py) = (p.x as f32 / res as f32, p.y as f32 / res as f32);
+    // A point first needed at subdivision level l stands for a square of 4^-l of a pixel: it
+    // takes that share of each effect's per-pixel budget (corners, level 0, take all of it),
+    // time samples included (at least one).
+    let level =
+        res.trailing_zeros() - p.x.trailing_zeros().min(p.y.trailing_zeros()).min(res.trailing_zeros());
+    let spp = 1u32 << (2 * level);
+    let times = match scene.motion {
+        Some(_) => settings.time.samples.max(1).div_ceil(spp),
+        None => 1,
+    };
+    let order = crate::sample::rng::hash(&key, dims::TIME, dims::PIXEL_PATTERNS - 1);
+    let mut mean = SampleMean::default();
+    for j in 0..times {
+        // Sample 0 keeps the point's own key and draws; the others get keys of their own.
+        let index = dims::PIXEL_PATTERNS - 2 * j;
+        let time = match scene.motion {
+            Some(_) => {
+                rays.timed += 1;
+                let k = permute(j, times, order);
+                let u = crate::sample::rng::uniform(&key, dims::TIME, index);
+                stratum_time(settings.time.pattern, k, times, u)
+            }
+            None => 0.0,
+        };
+        let cam = scene.camera_at(time);
+        let ray = if cam.has_lens() {
+            rays.lens += 1;
+            let lens = disk_point(Pattern::Random, 1, 0, uniform2(&key, dims::LENS, index));
+            cam.lens_ray(px, py, settings.width, settings.height, lens)
+        } else {
+            rays.camera += 1;
+            cam.ray(px, py, settings.width, settings.height)
+        };
+        let own = match j {
+            0 => key,
+            _ => SampleKey { sample: key.sample ^ j.wrapping_mul(0x9E37_79B9), ..key },
+        };
+        let camera = CameraSample { key: own, pixel: key, slot: j, spp: spp.saturating_mul(times) };
+        mean.add(trace_camera_ray(scene, settings, &ray, camera, time, rays));
+    }
+    // A point none of whose samples is finite is non-finite, so refinement drops and counts it.
+    match mean.dropped() == times {
+        true => Vec3::NAN,
+        false => mean.mean(),
+    }
+}

@@ -1,0 +1,140 @@
+//! Tiles traced in packets: camera rays of a pixel block found together, and the shadow rays
+//! of their hits towards point and directional lights traced together; the same bits as
+//! single rays.
+
+use super::camera_samples::CameraSampler;
+use super::finite::SampleMean;
+use super::integrator::{radiance_at, ShadingPoint};
+use super::packet::{closest_hits, shadow_passes, LANES, MIN_LANES};
+use super::path::{PathContext, ShadowHint, HINTED_LIGHTS};
+use super::scene::TraceScene;
+use super::stats::RayCounts;
+use super::tiles::TileOut;
+use crate::math::{Ray, RayPacket, Vec3, SHADOW_EPSILON};
+use crate::simd::SimdLevel;
+use crate::store::{PrimitiveStore, TraversalCost};
+
+/// Width and height in pixels of the block whose camera rays form one packet.
+pub(super) const BLOCK: [u32; 2] = [4, 4];
+
+/// A tile traced in packets: each block of [`BLOCK`] pixels sends its camera samples as one
+/// packet per sample index, finds their first hits together ([`closest_hits`], compiled for
+/// `level`), and shades each lane on its own. Every pixel accumulates its samples in the same
+/// order as [`super::camera_samples::fixed_pixel`], from the same hits, so the image is the same bits.
+pub(super) fn packet_tile<S: PrimitiveStore>(
+    sampler: &CameraSampler<'_, S>,
+    level: SimdLevel,
+    [x0, y0, x1, y1]: [u32; 4],
+    rays: &mut RayCounts,
+    out: &mut TileOut,
+) {
+    const { assert!((BLOCK[0] * BLOCK[1]) as usize == LANES) };
+    let tw = x1 - x0;
+    out.pixels.resize(((y1 - y0) * tw) as usize, (Vec3::ZERO, 0));
+    let (scene, settings, n) = (sampler.scene, sampler.settings, sampler.n);
+    for by in (y0..y1).step_by(BLOCK[1] as usize) {
+        for bx in (x0..x1).step_by(BLOCK[0] as usize) {
+            let mut means = [SampleMean::default(); LANES];
+            let pixel = |lane: usize| {
+                let (x, y) = (bx + lane as u32 % BLOCK[0], by + lane as u32 / BLOCK[0]);
+                (x < x1 && y < y1).then_some((x, y))
+            };
+            for sample in 0..n {
+                let mut packet = RayPacket::<LANES>::default();
+                let mut cameras = [None; LANES];
+                for (lane, camera) in cameras.iter_mut().enumerate() {
+                    if let Some((x, y)) = pixel(lane) {
+                        let (ray, key, _) = sampler.sample(x, y, sample, rays);
+                        packet.set(lane, &ray, 0.0, f32::INFINITY);
+                        *camera = Some(key);
+                    }
+                }
+                let mut cost = TraversalCost::default();
+                let hits = level.run(
+                    #[inline(always)]
+                    || closest_hits(scene, &packet, &mut cost),
+                );
+                let lane_cost = cost.per_ray(cameras.iter().flatten().count() as u32);
+                // Each hit's surface, found once: the shadow packets start from it, and so does
+                // the lane's shading.
+                let surfaces: [Option<ShadingPoint>; LANES] = std::array::from_fn(|lane| {
+                    let ray = packet.ray(lane);
+                    hits.hit[lane].map(|hit| ShadingPoint::new(scene.store.surface(&hit, &ray), ray.dir))
+                });
+                let hints = point_light_shadows(scene, &surfaces, level, rays);
+                for (lane, camera) in cameras.iter().enumerate() {
+                    if let Some(camera) = *camera {
+                        let mut ctx = PathContext::new(settings, camera, rays);
+                        ctx.shadow_hint = hints[lane];
+                        ctx.surface_hint = surfaces[lane];
+                        let ray = packet.ray(lane);
+                        means[lane].add(radiance_at(
+                            scene,
+                            &ray,
+                            hits.hit[lane],
+                            lane_cost,
+                            0,
+                            1.0,
+                            &mut ctx,
+                        ));
+                        ctx.finish();
+                    }
+                }
+            }
+            for (lane, mean) in means.iter().enumerate() {
+                if let Some((x, y)) = pixel(lane) {
+                    out.pixels[((y - y0) * tw + x - x0) as usize] = (mean.mean(), mean.dropped());
+                }
+            }
+        }
+    }
+}
+
+/// The shadow rays from a packet's camera hits towards each of the first [`HINTED_LIGHTS`]
+/// point or directional lights, traced as one packet per light (a common end point, or a
+/// common direction): per lane, the transmittance [`super::phong::direct_light`] would find,
+/// computed from the same shading point (`surfaces`: each camera hit's, as `radiance_at` sees
+/// it).
+pub(super) fn point_light_shadows<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    surfaces: &[Option<ShadingPoint>; LANES],
+    level: SimdLevel,
+    rays: &mut RayCounts,
+) -> [Option<ShadowHint>; LANES] {
+    let mut hints = [None; LANES];
+    let lights = scene.lights.iter().enumerate().take(HINTED_LIGHTS).filter(|(_, l)| !l.is_area());
+    if scene.lights.iter().take(HINTED_LIGHTS).all(|l| l.is_area()) {
+        return hints;
+    }
+    for (j, light) in lights {
+        let mut shadow = RayPacket::<LANES>::default();
+        let mut lanes = 0;
+        for (lane, surface) in surfaces.iter().enumerate() {
+            let Some(ShadingPoint { sp, ns, above, .. }) = *surface else { continue };
+            let (to_light, dist, _) = light.towards(sp.point);
+            if ns.dot(to_light) <= 0.0 {
+                continue;
+            }
+            shadow.set(lane, &Ray::new(above, to_light), 0.0, dist * (1.0 - SHADOW_EPSILON));
+            lanes += 1;
+        }
+        if (lanes as usize) < MIN_LANES {
+            // Too few to pay for a packet: `direct_light` traces them alone.
+            continue;
+        }
+        let mut cost = TraversalCost::default();
+        let pass = level.run(
+            #[inline(always)]
+            || shadow_passes(scene, &shadow, &mut cost),
+        );
+        let each = cost.per_ray(lanes);
+        for lane in 0..LANES {
+            if shadow.active[lane] {
+                rays.traversal.record(each);
+                let hint = hints[lane].get_or_insert([None; HINTED_LIGHTS]);
+                hint[j] = Some(pass[lane]);
+            }
+        }
+    }
+    hints
+}
