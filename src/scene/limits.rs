@@ -25,11 +25,12 @@ use super::error::{number as num, SceneError};
 use super::format::{CameraDesc, LightDesc, ObjectDesc, SceneDesc, ShapeDesc, TransformDesc};
 use super::locate::{position_of, FieldPath, Segment};
 use super::mesh::MeshLibrary;
-use super::validate::{Violation, MAX_COORDINATE};
+use super::rules::MAX_COORDINATE;
+use super::validate::Violation;
 
 /// Largest radiance a pixel may sum, in any channel, before dividing by its sample count.
 /// Film sums are 32-bit floats (largest ≈ 3.4e38); 1e29 leaves room for the Phong bracket
-/// (≤ 2: `kd` ≤ 1 plus `ks` ≤ 1 times a highlight that [`super::validate::MAX_SHININESS`]
+/// (≤ 2: `kd` ≤ 1 plus `ks` ≤ 1 times a highlight that [`super::rules::MAX_SHININESS`]
 /// keeps ≤ 1.01), for an exposure of up to 2^30 in tone mapping, and for 10⁸ lights.
 pub const MAX_RADIANCE_SUM: f64 = 1e29;
 

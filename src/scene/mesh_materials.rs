@@ -15,7 +15,7 @@ use std::sync::Arc;
 
 use super::error::shown;
 use super::format::{MaterialDesc, SceneDesc, DEFAULT_BUMP_DEPTH};
-use super::validate::MAX_SHININESS;
+use super::rules::MAX_SHININESS;
 use crate::geom::mesh::ObjMaterial;
 use crate::geom::MeshId;
 use crate::math::Vec3;

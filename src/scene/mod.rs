@@ -15,6 +15,7 @@
 //! [`limits`] checks what fields produce together (world-space sizes, the lens, summed
 //! radiance).
 //! [`SceneBuilder`] puts the same description together in code, checked by the same rules.
+//! [`rules`] is the table of numeric limits every check reads.
 //! [`ray_tree`] bounds a camera sample's ray tree and warns when the ray budget would cut it.
 //!
 //! [`validate`]: validate::validate
@@ -30,6 +31,7 @@ pub mod mesh_materials;
 pub mod mtl;
 pub mod obj;
 pub mod ray_tree;
+pub mod rules;
 pub mod spawn;
 pub mod texture;
 pub mod validate;

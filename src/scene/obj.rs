@@ -17,7 +17,7 @@
 //! scenes/bad.obj:12: face index 9 is out of range: only 8 vertices (`v`) come before this line
 //! ```
 //!
-//! The rules: `v` takes three finite numbers within ±1e18 (`validate::MAX_COORDINATE`),
+//! The rules: `v` takes three finite numbers within ±1e18 (`rules::MAX_COORDINATE`),
 //! optionally followed by a weight `w` (tobj divides by it; the result obeys the same rule) or
 //! by an `r g b` colour (dropped); `vn` takes three finite numbers and `vt` one to three finite
 //! numbers (`u [v [w]]`: v defaults to 0, w is dropped); a face `f` takes at least three
@@ -34,7 +34,7 @@ use crate::geom::mesh::{vertex_normals, MeshData};
 use crate::math::{Vec2, Vec3};
 use crate::scene::error::{escaped_path, one_line, shown, MAX_LINE_CHARS};
 use crate::scene::mtl::{assign_materials, MtlError, MtlFile, MtlLib, UseMtl};
-use crate::scene::validate::{coordinate_rule, MAX_COORDINATE};
+use crate::scene::rules::{coordinate_rule, MAX_COORDINATE};
 
 /// Why an OBJ mesh could not be loaded.
 #[derive(Debug, thiserror::Error)]
