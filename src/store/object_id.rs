@@ -34,7 +34,8 @@ impl ObjectId {
     const PLANE: u32 = 1 << 31;
     /// Bit marking a moving object.
     const MOVING: u32 = 1 << 30;
-    /// Largest index of any kind (the snapshot refuses more objects than this).
+    /// Largest index of any kind (2^30 − 1): a larger one would run into the kind bits. Only
+    /// debug builds check it; a billion objects exhaust memory first.
     pub const MAX_INDEX: u32 = Self::MOVING - 1;
 
     /// Bounded object `index` (at most [`ObjectId::MAX_INDEX`]).
