@@ -677,6 +677,21 @@ fn a_script_write_and_a_scene_file_value_break_the_same_rule_in_the_same_words()
             "kd: (1.5, 0.1, 0.1)",
         ),
         ("let b = entity(\"ball\"); b.shininess = -2.0;", "shininess: 30", "shininess: -2"),
+        ("let b = entity(\"ball\"); b.shininess = 2e4;", "shininess: 30", "shininess: 2e4"),
+        ("let b = entity(\"ball\"); b.ks = 1.5;", "ks: 0.4", "ks: 1.5"),
+        ("let b = entity(\"ball\"); b.ior = 0.0;", "ks: 0.4", "ks: 0.4, ior: 0"),
+        ("let b = entity(\"ball\"); b.kt = 0.5; b.kr = 0.7;", "ks: 0.4", "ks: 0.4, kt: 0.5, kr: 0.7"),
+        ("camera.focus_distance = 0.0;", "fov_deg: 45", "fov_deg: 45, focus_distance: 0"),
+        ("camera.up = vec3(0.0, -3.0, 12.0);", "fov_deg: 45", "fov_deg: 45, up: (0, -3, 12)"),
+        ("settings.width = 0;", "width: 40", "width: 0"),
+        ("settings.max_depth = 65;", "max_depth: 3", "max_depth: 65"),
+        ("settings.samples = 5000;", "seed: 5", "seed: 5, aa: (samples: 5000)"),
+        ("let k = entity(\"light_0\"); k.intensity = -1.0;", "intensity: 0.9", "intensity: -1"),
+        (
+            "let k = entity(\"light_0\"); k.colour = vec3(1.0, -0.5, 1.0);",
+            "intensity: 0.9",
+            "intensity: 0.9, colour: (1, -0.5, 1)",
+        ),
     ];
     for (write, from, to) in cases {
         let file = SCENE.replacen(from, to, 1);

@@ -21,6 +21,7 @@
 //! [`validate`]: validate::validate
 pub mod builder;
 pub mod error;
+pub mod fields;
 pub mod format;
 pub mod inputs;
 pub mod limits;

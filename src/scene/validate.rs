@@ -13,7 +13,8 @@ use std::fmt;
 
 use glam::{DVec3, Vec3};
 
-use super::error::{number, shown};
+use super::error::shown;
+use super::fields::{self, dvec, vec, AXES};
 use super::format::{AdaptiveDesc, CameraDesc, LightDesc, MaterialDesc, ObjectDesc, SceneDesc};
 use super::format::{NoiseDesc, SamplingDesc, SettingsDesc, ShapeDesc, ToneMapDesc, TransformDesc};
 use super::locate::FieldPath;
@@ -105,55 +106,25 @@ pub fn material_violation(material: &MaterialDesc) -> Option<Violation> {
 }
 
 fn camera(path: &FieldPath, camera: &CameraDesc) -> Check {
-    position(path, "position", camera.position)?;
-    position(path, "look_at", camera.look_at)?;
-    let view = camera.look_at - camera.position;
-    if view == DVec3::ZERO {
-        return fail(
-            path,
-            "look_at",
-            format!("must differ from `position`, both are {}", dvec(camera.look_at)),
-        );
+    check(path, "position", fields::position(camera.position))?;
+    check(path, "look_at", fields::position(camera.look_at))?;
+    if let Err((field, rule)) = fields::view(camera.position, camera.look_at, camera.up) {
+        return fail(path, field, rule);
     }
-    finite_vec(path, "up", camera.up)?;
-    if camera.up == Vec3::ZERO {
-        return fail(path, "up", "must be non-zero, got (0, 0, 0)".into());
-    }
-    let sine = camera.up.as_dvec3().normalize().cross(view.normalize()).length();
-    if sine < DEGENERATE_TOLERANCE {
-        let rule = format!(
-            "must not be parallel to the view direction `look_at - position` = {}, got {}",
-            vec(view.as_vec3()),
-            vec(camera.up)
-        );
-        return fail(path, "up", rule);
-    }
-    finite(path, "fov_deg", camera.fov_deg)?;
-    if !(camera.fov_deg > 0.0 && camera.fov_deg < 180.0) {
-        return fail(path, "fov_deg", format!("must be in (0, 180) degrees, got {}", camera.fov_deg));
-    }
-    for (name, size) in [("width", camera.width), ("height", camera.height)] {
-        if !(1..=MAX_IMAGE_SIZE).contains(&size) {
-            return fail(path, name, format!("must be in 1..={MAX_IMAGE_SIZE} pixels, got {size}"));
-        }
-    }
-    finite(path, "aperture", camera.aperture)?;
-    if camera.aperture < 0.0 {
-        return fail(path, "aperture", format!("must be >= 0, got {}", camera.aperture));
-    }
+    check(path, "fov_deg", fields::fov_deg(camera.fov_deg))?;
+    check(path, "width", fields::image_size(camera.width.into()))?;
+    check(path, "height", fields::image_size(camera.height.into()))?;
+    check(path, "aperture", fields::non_negative(camera.aperture))?;
     if let Some(distance) = camera.focus_distance {
-        finite(path, "focus_distance", distance)?;
-        if distance <= 0.0 {
-            return fail(path, "focus_distance", format!("must be > 0, got {distance}"));
-        }
+        check(path, "focus_distance", fields::positive(distance))?;
     }
     if let Some(point) = camera.focus_on {
-        position(path, "focus_on", point)?;
+        check(path, "focus_on", fields::position(point))?;
         if camera.focus_distance.is_some() {
             let rule = "must not be given together with `focus_distance`; give one of them".into();
             return fail(path, "focus_on", rule);
         }
-        let depth = (point - camera.position).dot(view.normalize());
+        let depth = (point - camera.position).dot((camera.look_at - camera.position).normalize());
         if depth as f32 <= 0.0 {
             let rule = format!(
                 "must be in front of the camera (depth along `look_at - position` > 0), got {} at depth {}",
@@ -173,13 +144,11 @@ fn camera(path: &FieldPath, camera: &CameraDesc) -> Check {
 }
 
 fn settings(path: &FieldPath, settings: &SettingsDesc) -> Check {
-    if settings.max_depth > MAX_DEPTH {
-        return fail(path, "max_depth", format!("must be in 0..={MAX_DEPTH}, got {}", settings.max_depth));
-    }
-    unit_interval(path, "min_contribution", settings.min_contribution)?;
-    non_negative_channels(path, "background", settings.background)?;
-    non_negative_channels(path, "ambient", settings.ambient)?;
-    sample_count(&path.clone().field("aa"), "samples", settings.aa.samples)?;
+    check(path, "max_depth", fields::max_depth(settings.max_depth.into()))?;
+    check(path, "min_contribution", fields::unit_interval(settings.min_contribution))?;
+    check(path, "background", fields::non_negative_channels(settings.background))?;
+    check(path, "ambient", fields::non_negative_channels(settings.ambient))?;
+    check(&path.clone().field("aa"), "samples", fields::sample_count(settings.aa.samples.into()))?;
     if let Some(adaptive_desc) = &settings.adaptive {
         adaptive(&path.clone().field("adaptive"), adaptive_desc)?;
     }
@@ -191,10 +160,7 @@ fn settings(path: &FieldPath, settings: &SettingsDesc) -> Check {
         noise(&path.clone().field("noise"), noise_desc)?;
     }
     sampling(&path.clone().field("glossy"), &settings.glossy)?;
-    if !(1..=MAX_SECONDARY_RAYS).contains(&settings.max_secondary_rays) {
-        let rule = format!("must be in 1..={MAX_SECONDARY_RAYS}, got {}", settings.max_secondary_rays);
-        return fail(path, "max_secondary_rays", rule);
-    }
+    check(path, "max_secondary_rays", fields::max_secondary_rays(settings.max_secondary_rays.into()))?;
     tonemap(&path.clone().field("tonemap"), &settings.tonemap)
 }
 
@@ -207,23 +173,12 @@ fn tonemap(path: &FieldPath, t: &ToneMapDesc) -> Check {
             format!("must be in [-{MAX_EXPOSURE}, {MAX_EXPOSURE}] stops, got {}", t.exposure),
         );
     }
-    finite(path, "white", t.white)?;
-    if t.white <= 0.0 {
-        return fail(path, "white", format!("must be > 0, got {}", t.white));
-    }
-    Ok(())
+    check(path, "white", fields::positive(t.white))
 }
 
 fn adaptive(path: &FieldPath, adaptive: &AdaptiveDesc) -> Check {
-    finite(path, "threshold", adaptive.threshold)?;
-    if adaptive.threshold < 0.0 {
-        return fail(path, "threshold", format!("must be >= 0, got {}", adaptive.threshold));
-    }
-    if !(1..=MAX_ADAPTIVE_DEPTH).contains(&adaptive.max_depth) {
-        let rule = format!("must be in 1..={MAX_ADAPTIVE_DEPTH}, got {}", adaptive.max_depth);
-        return fail(path, "max_depth", rule);
-    }
-    Ok(())
+    check(path, "threshold", fields::non_negative(adaptive.threshold))?;
+    check(path, "max_depth", fields::adaptive_depth(adaptive.max_depth.into()))
 }
 
 fn noise(path: &FieldPath, noise: &NoiseDesc) -> Check {
@@ -254,67 +209,35 @@ fn noise(path: &FieldPath, noise: &NoiseDesc) -> Check {
 }
 
 fn sampling(path: &FieldPath, sampling: &SamplingDesc) -> Check {
-    sample_count(path, "samples", sampling.samples)
+    check(path, "samples", fields::sample_count(sampling.samples.into()))
 }
 
 fn material(path: &FieldPath, material: &MaterialDesc) -> Check {
     if material.name.trim().is_empty() {
         return fail(path, "name", "must not be empty".into());
     }
-    finite_vec(path, "kd", material.kd)?;
-    if let Some((i, value)) = first_component(material.kd, |c| !(0.0..=1.0).contains(&c)) {
-        return fail(
-            path,
-            "kd",
-            format!("must be in [0, 1] in every channel, got {} = {value}", CHANNELS[i]),
-        );
-    }
-    unit_interval(path, "ks", material.ks)?;
-    finite(path, "shininess", material.shininess)?;
-    if material.shininess < 0.0 {
-        return fail(path, "shininess", format!("must be >= 0, got {}", material.shininess));
-    }
-    if material.shininess > MAX_SHININESS {
-        let got = number(material.shininess.into());
-        return fail(path, "shininess", format!("{}, got {got}", shininess_rule()));
-    }
-    unit_interval(path, "kr", material.kr)?;
-    let grey = material.kt.x == material.kt.y && material.kt.y == material.kt.z;
-    if grey {
-        unit_interval(path, "kt", material.kt.x)?;
-    } else {
-        finite_vec(path, "kt", material.kt)?;
-        if let Some((i, value)) = first_component(material.kt, |c| !(0.0..=1.0).contains(&c)) {
-            let rule = format!("must be in [0, 1] in every channel, got {} = {value}", CHANNELS[i]);
-            return fail(path, "kt", rule);
-        }
-    }
-    // Allow for rounding in sums such as 0.08 + 0.92.
-    let kt = material.kt.max_element();
-    if material.kr + kt > 1.0 + 4.0 * f32::EPSILON {
-        let kr = material.kr;
-        let channel = if grey { String::new() } else { " in its largest channel".to_owned() };
-        return fail(path, "kt", format!("`kr + kt` must be <= 1{channel}, got {kr} + {kt} = {}", kr + kt));
-    }
-    finite(path, "ior", material.ior)?;
-    if material.ior <= 0.0 {
-        return fail(path, "ior", format!("must be > 0, got {}", material.ior));
-    }
-    unit_interval(path, "glossiness", material.glossiness)?;
-    non_negative_channels(path, "emission", material.emission)?;
-    non_negative_channels(path, "absorption", material.absorption)?;
+    check(path, "kd", fields::unit_channels(material.kd))?;
+    check(path, "ks", fields::unit_interval(material.ks))?;
+    check(path, "shininess", fields::shininess(material.shininess))?;
+    check(path, "kr", fields::unit_interval(material.kr))?;
+    check(path, "kt", fields::kt(material.kt))?;
+    check(path, "kt", fields::kr_plus_kt(material.kr, material.kt))?;
+    check(path, "ior", fields::positive(material.ior))?;
+    check(path, "glossiness", fields::unit_interval(material.glossiness))?;
+    check(path, "emission", fields::non_negative_channels(material.emission))?;
+    check(path, "absorption", fields::non_negative_channels(material.absorption))?;
     finite(path, "bump_depth", material.bump_depth)
 }
 
 fn light(path: &FieldPath, light: &LightDesc) -> Check {
     let (colour, intensity, samples) = match light {
         LightDesc::Point { position, colour, intensity, .. } => {
-            self::position(path, "position", *position)?;
+            check(path, "position", fields::position(*position))?;
             (colour, intensity, None)
         }
         LightDesc::Spot { position, look_at, cone_deg, soft_deg, colour, intensity, .. } => {
-            self::position(path, "position", *position)?;
-            self::position(path, "look_at", *look_at)?;
+            check(path, "position", fields::position(*position))?;
+            check(path, "look_at", fields::position(*look_at))?;
             if look_at == position {
                 return fail(path, "look_at", "must differ from `position`".into());
             }
@@ -332,13 +255,13 @@ fn light(path: &FieldPath, light: &LightDesc) -> Check {
             (colour, intensity, None)
         }
         LightDesc::Directional { direction, colour, intensity } => {
-            non_zero_vec(path, "direction", *direction)?;
+            check(path, "direction", fields::non_zero_vec(*direction))?;
             (colour, intensity, None)
         }
         LightDesc::Rect { corner, edge_u, edge_v, colour, intensity, samples, .. } => {
-            position(path, "corner", *corner)?;
-            non_zero_vec(path, "edge_u", *edge_u)?;
-            non_zero_vec(path, "edge_v", *edge_v)?;
+            check(path, "corner", fields::position(*corner))?;
+            check(path, "edge_u", fields::non_zero_vec(*edge_u))?;
+            check(path, "edge_v", fields::non_zero_vec(*edge_v))?;
             let (u, v) = (edge_u.as_dvec3(), edge_v.as_dvec3());
             if u.cross(v).length() < DEGENERATE_TOLERANCE * u.length() * v.length() {
                 let rule =
@@ -348,22 +271,19 @@ fn light(path: &FieldPath, light: &LightDesc) -> Check {
             (colour, intensity, Some(samples))
         }
         LightDesc::Disk { centre, normal, radius, colour, intensity, samples, .. } => {
-            position(path, "centre", *centre)?;
-            non_zero_vec(path, "normal", *normal)?;
-            coordinate(path, "radius", *radius)?;
+            check(path, "centre", fields::position(*centre))?;
+            check(path, "normal", fields::non_zero_vec(*normal))?;
+            check(path, "radius", fields::coordinate(*radius))?;
             if *radius <= 0.0 {
                 return fail(path, "radius", format!("must be > 0, got {radius}"));
             }
             (colour, intensity, Some(samples))
         }
     };
-    non_negative_channels(path, "colour", *colour)?;
-    finite(path, "intensity", *intensity)?;
-    if *intensity < 0.0 {
-        return fail(path, "intensity", format!("must be >= 0, got {intensity}"));
-    }
+    check(path, "colour", fields::non_negative_channels(*colour))?;
+    check(path, "intensity", fields::non_negative(*intensity))?;
     match samples {
-        Some(samples) => sample_count(path, "samples", *samples),
+        Some(samples) => check(path, "samples", fields::sample_count((*samples).into())),
         None => Ok(()),
     }
 }
@@ -553,91 +473,34 @@ pub(super) fn fail(path: &FieldPath, child: impl Child, rule: String) -> Check {
     Err(Violation { path: child.under(path), rule })
 }
 
+/// A field's value rule ([`fields`]) under the field's path.
+pub(super) fn check(path: &FieldPath, child: impl Child, rule: fields::Rule) -> Check {
+    rule.map_err(|rule| Violation { path: child.under(path), rule })
+}
+
 pub(super) fn finite(path: &FieldPath, name: &str, value: f32) -> Check {
-    match value.is_finite() {
-        true => Ok(()),
-        false => fail(path, name, format!("must be a finite number, got {value}")),
-    }
+    check(path, name, fields::finite(value))
 }
 
 fn finite_vec(path: &FieldPath, child: impl Child, value: Vec3) -> Check {
-    match first_component(value, |c| !c.is_finite()) {
-        None => Ok(()),
-        Some((i, c)) => {
-            fail(path, child, format!("must be a finite number in every component, got {} = {c}", AXES[i]))
-        }
-    }
+    check(path, child, fields::finite_vec(value))
 }
 
-/// A point, extent or scale: finite and within ±[`MAX_COORDINATE`] in every component.
-fn coordinate_vec(path: &FieldPath, child: impl Child + Copy, value: Vec3) -> Check {
-    finite_vec(path, child, value)?;
-    match first_component(value, |c| c.abs() > MAX_COORDINATE) {
-        None => Ok(()),
-        Some((i, c)) => fail(path, child, format!("{}, got {} = {c:e}", coordinate_rule(), AXES[i])),
-    }
+fn coordinate_vec(path: &FieldPath, child: impl Child, value: Vec3) -> Check {
+    check(path, child, fields::coordinate_vec(value))
 }
 
-/// A position (64-bit): finite and within ±[`MAX_COORDINATE`] in every component, the
-/// magnitude compared at 32-bit precision like every other coordinate.
-fn position(path: &FieldPath, child: impl Child + Copy, value: DVec3) -> Check {
-    if let Some((i, c)) = first_dcomponent(value, |c| !c.is_finite()) {
-        return fail(
-            path,
-            child,
-            format!("must be a finite number in every component, got {} = {c}", AXES[i]),
-        );
-    }
-    match first_dcomponent(value, |c| (c as f32).abs() > MAX_COORDINATE) {
-        None => Ok(()),
-        Some((i, c)) => fail(path, child, format!("{}, got {} = {c:e}", coordinate_rule(), AXES[i])),
-    }
+fn position(path: &FieldPath, child: impl Child, value: DVec3) -> Check {
+    check(path, child, fields::position(value))
 }
 
-/// A finite value within ±[`MAX_COORDINATE`].
 fn coordinate(path: &FieldPath, name: &str, value: f32) -> Check {
-    finite(path, name, value)?;
-    match value.abs() <= MAX_COORDINATE {
-        true => Ok(()),
-        false => fail(path, name, format!("{}, got {value:e}", coordinate_rule())),
-    }
-}
-
-fn non_zero_vec(path: &FieldPath, name: &str, value: Vec3) -> Check {
-    finite_vec(path, name, value)?;
-    match value == Vec3::ZERO {
-        true => fail(path, name, "must be non-zero, got (0, 0, 0)".into()),
-        false => Ok(()),
-    }
-}
-
-fn sample_count(path: &FieldPath, name: &str, samples: u32) -> Check {
-    match (1..=MAX_SAMPLES).contains(&samples) {
-        true => Ok(()),
-        false => fail(path, name, format!("must be in 1..={MAX_SAMPLES}, got {samples}")),
-    }
-}
-
-fn unit_interval(path: &FieldPath, name: &str, value: f32) -> Check {
-    finite(path, name, value)?;
-    match (0.0..=1.0).contains(&value) {
-        true => Ok(()),
-        false => fail(path, name, format!("must be in [0, 1], got {value}")),
-    }
+    check(path, name, fields::coordinate(value))
 }
 
 pub(super) fn non_negative_channels(path: &FieldPath, name: &str, value: Vec3) -> Check {
-    finite_vec(path, name, value)?;
-    match first_component(value, |c| c < 0.0) {
-        None => Ok(()),
-        Some((i, c)) => fail(path, name, format!("must be >= 0 in every channel, got {} = {c}", CHANNELS[i])),
-    }
+    check(path, name, fields::non_negative_channels(value))
 }
-
-/// Names of a vector's components.
-const AXES: [&str; 3] = ["x", "y", "z"];
-/// Names of a colour's channels.
-const CHANNELS: [&str; 3] = ["r", "g", "b"];
 
 /// The index and value of the first component for which `bad` holds.
 fn first_component(value: Vec3, bad: impl Fn(f32) -> bool) -> Option<(usize, f32)> {
@@ -647,16 +510,6 @@ fn first_component(value: Vec3, bad: impl Fn(f32) -> bool) -> Option<(usize, f32
 /// [`first_component`] of a 64-bit vector.
 fn first_dcomponent(value: DVec3, bad: impl Fn(f64) -> bool) -> Option<(usize, f64)> {
     value.to_array().into_iter().enumerate().find(|&(_, c)| bad(c))
-}
-
-/// A vector as RON writes it: `(1, 0.5, -2)`.
-fn vec(value: Vec3) -> String {
-    format!("({}, {}, {})", value.x, value.y, value.z)
-}
-
-/// A 64-bit vector as RON writes it.
-fn dvec(value: DVec3) -> String {
-    format!("({}, {}, {})", value.x, value.y, value.z)
 }
 
 #[cfg(test)]

@@ -17,7 +17,7 @@ use super::engine::{sandboxed, Limits, Watch};
 use super::error::{ErrorKind, ScriptError};
 use super::shutter::{apply_shutter_pose, ShutterPose};
 use super::state::{apply_script_writes, Clock, ScriptState, SharedState};
-use crate::scene::{spawn_world, validate, SceneDesc};
+use crate::scene::{fields, spawn_world, SceneDesc};
 use crate::store::{PrimitiveStore, SoaStore};
 use crate::trace::TraceScene;
 use crate::world::SceneWorld;
@@ -126,14 +126,16 @@ impl ScriptRuntime {
         let fail = |message: String| {
             Err(ScriptError::new(&self.script.file, ErrorKind::Runtime, message).in_call(context))
         };
+        let c = &state.camera;
         if state.camera_dirty {
-            if let Some(v) = validate::camera_violation(&api::scene::camera_desc(&state)) {
-                return fail(format!("camera.{}: {}", v.path, v.rule));
+            if let Err((field, rule)) = fields::view(c.position, c.look_at, c.up.as_vec3()) {
+                return fail(format!("camera.{field}: {rule}"));
             }
         }
         for entry in state.entities.iter().filter(|e| e.material_dirty) {
-            if let Some(v) = api::scene::material_desc(entry).and_then(|d| validate::material_violation(&d)) {
-                return fail(format!("entity `{}`: {}: {}", entry.name, v.path, v.rule));
+            let Some(m) = entry.material.map(|m| m.params.to_material()) else { continue };
+            if let Err(rule) = fields::kr_plus_kt(m.kr, m.kt) {
+                return fail(format!("entity `{}`: kt: {rule}", entry.name));
             }
         }
         Ok(())

@@ -518,13 +518,10 @@ impl ScriptState {
 
     /// The camera focus distance along the view direction, resolved as the renderer will.
     pub fn focus_distance(&self) -> f64 {
-        let c = &self.camera;
-        let forward = (c.look_at - c.position).normalize_or_zero();
-        match c.focus {
-            FocusState::LookAt => (c.look_at - c.position).length(),
+        match self.camera.focus {
+            // What the script wrote reads back exactly.
             FocusState::Distance(d) => d,
-            FocusState::Point(p) => (p - c.position).dot(forward),
-            FocusState::Entity(i) => (self.entities[i].centre() - c.position).dot(forward),
+            _ => f64::from(self.rig().focus_distance()),
         }
     }
 

@@ -86,15 +86,24 @@ impl CameraRig {
     pub fn camera(&self) -> crate::camera::Camera {
         let towards = (self.look_at - self.position).as_vec3();
         let camera = crate::camera::Camera::look_at(Vec3::ZERO, towards, self.up, self.fov_y);
-        let distance = match self.focus {
-            Focus::LookAt => camera.focus_distance,
+        camera.with_lens(self.aperture, self.focus_distance_along(camera.forward))
+    }
+
+    /// The distance from the eye to the plane in focus, along the view direction: the one
+    /// resolution of [`Focus`] that the renderer and scripts (`camera.focus_distance`) share.
+    pub fn focus_distance(&self) -> f32 {
+        // The camera's forward axis, as `Camera::look_at` computes it from the eye at zero.
+        self.focus_distance_along((self.look_at - self.position).as_vec3().normalize())
+    }
+
+    fn focus_distance_along(&self, forward: Vec3) -> f32 {
+        match self.focus {
+            Focus::LookAt => (self.look_at - self.position).as_vec3().length(),
             Focus::Distance(d) => d,
-            // Validation keeps the point in front of the camera; clamp for script-driven poses.
-            Focus::Point(p) => {
-                ((p - self.position).dot(camera.forward.as_dvec3()) as f32).max(f32::MIN_POSITIVE)
-            }
-        };
-        camera.with_lens(self.aperture, distance)
+            // A file's point lies in front of the camera (validation); a point a script or
+            // the moving camera left behind it gives the nearest plane in front instead.
+            Focus::Point(p) => ((p - self.position).dot(forward.as_dvec3()) as f32).max(f32::MIN_POSITIVE),
+        }
     }
 }
 

@@ -14,11 +14,8 @@ use rhai::{Array, Dynamic, Engine, ImmutableString, Module, FLOAT, INT};
 use super::convert::{error, finite, integer, vector, ScriptResult};
 use super::limits;
 use super::properties::unknown_name;
-use crate::scene::format::{CameraDesc, LightDesc, MaterialDesc, SamplingDesc, SceneDesc, SettingsDesc};
-use crate::scene::validate::{
-    self, coordinate_rule, MAX_ADAPTIVE_DEPTH, MAX_COORDINATE, MAX_DEPTH, MAX_IMAGE_SIZE, MAX_SAMPLES,
-    MAX_SECONDARY_RAYS,
-};
+use crate::scene::fields::{self, Rule};
+use crate::scene::format::{CameraDesc, SamplingDesc};
 use crate::script::state::{
     EntityKind, EntityState, FocusState, LightTerms, MaterialParams, ScriptState, SharedState,
 };
@@ -89,9 +86,16 @@ fn finite_vec(v: DVec3, what: &str) -> ScriptResult<DVec3> {
 /// A point or scale: finite and within ±`MAX_COORDINATE`, the scene format's rule.
 fn coordinate_vec(v: DVec3, what: &str) -> ScriptResult<DVec3> {
     let v = finite_vec(v, what)?;
-    match v.abs().max_element() <= f64::from(MAX_COORDINATE) {
-        true => Ok(v),
-        false => error(format!("{what} {}, got {v}", coordinate_rule())),
+    obeys(fields::position(v), what).map(|()| v)
+}
+
+/// The scene format's rule for a field ([`fields`]), applied to a script write: the error is
+/// `what` (the property written) followed by the rule's words, as a scene file's error has
+/// them after the field.
+fn obeys(rule: Rule, what: &str) -> ScriptResult<()> {
+    match rule {
+        Ok(()) => Ok(()),
+        Err(rule) => error(format!("{what} {rule}")),
     }
 }
 
@@ -123,7 +127,7 @@ fn register_camera(engine: &mut Engine) {
     engine.register_get("fov", |c: &mut CameraHandle| c.0.lock().camera.fov_deg);
     engine.register_set("fov", |c: &mut CameraHandle, v: Dynamic| -> ScriptResult<()> {
         let fov = finite(&v, "camera.fov")?;
-        check_camera_field(|d| d.fov_deg = fov as f32)?;
+        obeys(fields::fov_deg(fov as f32), "camera.fov:")?;
         let mut s = c.0.lock();
         s.camera.fov_deg = fov;
         s.camera_dirty = true;
@@ -132,7 +136,7 @@ fn register_camera(engine: &mut Engine) {
     engine.register_get("aperture", |c: &mut CameraHandle| c.0.lock().camera.aperture);
     engine.register_set("aperture", |c: &mut CameraHandle, v: Dynamic| -> ScriptResult<()> {
         let aperture = finite(&v, "camera.aperture")?;
-        check_camera_field(|d| d.aperture = aperture as f32)?;
+        obeys(fields::non_negative(aperture as f32), "camera.aperture:")?;
         let mut s = c.0.lock();
         let old = std::mem::replace(&mut s.camera.aperture, aperture);
         if let Err(e) = limits::lens(&s).and_then(|()| limits::radiance(&s, "camera.aperture")) {
@@ -145,7 +149,7 @@ fn register_camera(engine: &mut Engine) {
     engine.register_get("focus_distance", |c: &mut CameraHandle| c.0.lock().focus_distance());
     engine.register_set("focus_distance", |c: &mut CameraHandle, v: Dynamic| -> ScriptResult<()> {
         let distance = finite(&v, "camera.focus_distance")?;
-        check_camera_field(|d| d.focus_distance = Some(distance as f32))?;
+        obeys(fields::positive(distance as f32), "camera.focus_distance:")?;
         let mut s = c.0.lock();
         let old = std::mem::replace(&mut s.camera.focus, FocusState::Distance(distance));
         if let Err(e) = limits::lens(&s) {
@@ -164,22 +168,8 @@ fn register_camera(engine: &mut Engine) {
     });
 }
 
-/// A camera the scene format accepts, to check one field against with the others valid.
-fn valid_camera_desc() -> CameraDesc {
-    CameraDesc::new(DVec3::ZERO, DVec3::Z, 45.0, 1, 1)
-}
-
-/// Checks one camera field against the scene format's rules, on an otherwise valid camera.
-fn check_camera_field(set: impl FnOnce(&mut CameraDesc)) -> ScriptResult<()> {
-    let mut desc = valid_camera_desc();
-    set(&mut desc);
-    match validate::camera_violation(&desc) {
-        Some(v) => error(format!("camera.{}: {}", script_field(&v.path.to_string()), v.rule)),
-        None => Ok(()),
-    }
-}
-
-/// The camera as the scene format describes it, for whole-camera checks after a call.
+/// The camera as the scene format describes it, for the rules that span the scene
+/// ([`super::limits`]).
 pub fn camera_desc(state: &ScriptState) -> CameraDesc {
     let c = &state.camera;
     CameraDesc {
@@ -198,16 +188,6 @@ pub fn camera_desc(state: &ScriptState) -> CameraDesc {
         lens: SamplingDesc { samples: state.settings.lens_samples, ..Default::default() },
         shutter: None,
         time: SamplingDesc { samples: state.settings.time_samples, ..Default::default() },
-    }
-}
-
-/// The script's name of a scene-format field.
-fn script_field(field: &str) -> &str {
-    match field {
-        "fov_deg" => "fov",
-        "lens.samples" => "lens_samples",
-        "time.samples" => "time_samples",
-        other => other,
     }
 }
 
@@ -296,33 +276,33 @@ fn register_entities(engine: &mut Engine, state: &SharedState) {
     });
     engine.register_set("kd", |e: &mut EntityHandle, v: Dynamic| -> ScriptResult<()> {
         let v = vector(&v, &format!("entity `{}`: kd", e.name()))?;
-        e.write_material("kd", |m| m.kd = v, |d| d.kd = v.as_vec3())
+        e.write_material("kd", |m| m.kd = v, fields::unit_channels(v.as_vec3()))
     });
     macro_rules! scalar_material {
-        ($name:literal, $field:ident) => {
+        ($name:literal, $field:ident, $rule:path) => {
             engine.register_get($name, |e: &mut EntityHandle| -> ScriptResult<FLOAT> {
                 e.read(|entry| material(entry).map(|m| m.$field))
             });
             engine.register_set($name, |e: &mut EntityHandle, v: Dynamic| -> ScriptResult<()> {
                 let v = finite(&v, $name)?;
-                e.write_material($name, |m| m.$field = v, |d| d.$field = v as f32)
+                e.write_material($name, |m| m.$field = v, $rule(v as f32))
             });
         };
     }
-    scalar_material!("ks", ks);
-    scalar_material!("shininess", shininess);
-    scalar_material!("kr", kr);
+    scalar_material!("ks", ks, fields::unit_interval);
+    scalar_material!("shininess", shininess, fields::shininess);
+    scalar_material!("kr", kr, fields::unit_interval);
     // `kt` is the strength of the transmittance; a scene's tint stays (its largest channel is
-    // the strength, so the desc's rules see the same value).
+    // the strength, so the file's rule sees the same value).
     engine.register_get("kt", |e: &mut EntityHandle| -> ScriptResult<FLOAT> {
         e.read(|entry| material(entry).map(|m| m.kt))
     });
     engine.register_set("kt", |e: &mut EntityHandle, v: Dynamic| -> ScriptResult<()> {
         let v = finite(&v, "kt")?;
-        e.write_material("kt", |m| m.kt = v, |d| d.kt = Vec3::splat(v as f32))
+        e.write_material("kt", |m| m.kt = v, fields::kt(Vec3::splat(v as f32)))
     });
-    scalar_material!("ior", ior);
-    scalar_material!("glossiness", glossiness);
+    scalar_material!("ior", ior, fields::positive);
+    scalar_material!("glossiness", glossiness, fields::unit_interval);
 
     engine.register_get("colour", |e: &mut EntityHandle| -> ScriptResult<DVec3> {
         e.read(|entry| light(entry, "colour").map(|l| l.colour))
@@ -350,30 +330,12 @@ fn light(entry: &EntityState, property: &str) -> ScriptResult<LightTerms> {
     }
 }
 
-/// Checks a light's colour and intensity against the scene format's rules for lights (the
-/// scene validator run on a scene holding only this light); the error names `field`.
+/// Checks a light's colour and intensity against the scene format's rules for lights; the
+/// error names `field`.
 fn check_light_field(name: &str, field: &str, terms: LightTerms) -> ScriptResult<()> {
-    let light = LightDesc::Point {
-        position: DVec3::ZERO,
-        colour: terms.colour.as_vec3(),
-        intensity: terms.intensity as f32,
-        falloff: Default::default(),
-    };
-    let scene = SceneDesc {
-        camera: valid_camera_desc(),
-        settings: SettingsDesc::default(),
-        materials: Vec::new(),
-        textures: Vec::new(),
-        lights: vec![light],
-        objects: Vec::new(),
-        meshes: Default::default(),
-        texture_table: Default::default(),
-        library_textures: Vec::new(),
-    };
-    match validate::validate(&scene) {
-        Ok(()) => Ok(()),
-        Err(v) => error(format!("entity `{name}`: {field} {}", v.rule)),
-    }
+    let what = format!("entity `{name}`: {field}");
+    obeys(fields::non_negative_channels(terms.colour.as_vec3()), &what)?;
+    obeys(fields::non_negative(terms.intensity as f32), &what)
 }
 
 /// Changes an object's placement with `set`, keeping it only if the object stays within the
@@ -411,16 +373,6 @@ fn material(entry: &EntityState) -> ScriptResult<&MaterialParams> {
     }
 }
 
-/// The material the scene format checks one field on: defaults everywhere else.
-fn default_material_desc() -> MaterialDesc {
-    MaterialDesc::describe("script", &crate::trace::Material::default(), &[])
-}
-
-/// An entity's material as the scene format describes it, for whole-material checks.
-pub fn material_desc(entry: &EntityState) -> Option<MaterialDesc> {
-    entry.material.map(|m| MaterialDesc::describe(&entry.name, &m.params.to_material(), &[]))
-}
-
 impl EntityHandle {
     fn name(&self) -> String {
         self.state.lock().entities[self.index].name.clone()
@@ -456,20 +408,18 @@ impl EntityHandle {
         Ok(())
     }
 
-    /// Sets one material field after checking it against the scene format's rule for it.
+    /// Sets one material field after checking it against the scene format's rule for it
+    /// (`rule`, the field's rule applied to the new value). `kr + kt` spans two fields and is
+    /// checked once the call has made all its writes.
     fn write_material(
         &self,
         field: &str,
         set: impl FnOnce(&mut MaterialParams),
-        check: impl FnOnce(&mut MaterialDesc),
+        rule: Rule,
     ) -> ScriptResult<()> {
         self.write(|entry| {
             material(entry)?;
-            let mut desc = default_material_desc();
-            check(&mut desc);
-            if let Some(v) = validate::material_violation(&desc) {
-                return error(format!("entity `{}`: {field} {}", entry.name, v.rule));
-            }
+            obeys(rule, &format!("entity `{}`: {field}", entry.name))?;
             if let Some(m) = entry.material.as_mut() {
                 set(&mut m.params);
                 entry.material_dirty = true;
@@ -484,14 +434,12 @@ fn register_settings(engine: &mut Engine) {
     engine.register_fn("to_string", |_: &mut SettingsHandle| "settings".to_string());
 
     macro_rules! count_property {
-        ($name:literal, $field:ident, $lo:expr, $hi:expr) => {
+        ($name:literal, $field:ident, $rule:expr) => {
             engine.register_get($name, |h: &mut SettingsHandle| h.0.lock().settings.$field as INT);
             engine.register_set($name, |h: &mut SettingsHandle, v: Dynamic| -> ScriptResult<()> {
                 let what = concat!("settings.", $name);
                 let n = integer(&v, what)?;
-                if !($lo..=$hi).contains(&n) {
-                    return error(format!("{what} must be in {}..={}, got {n}", $lo, $hi));
-                }
+                obeys($rule(n), what)?;
                 let mut s = h.0.lock();
                 let old = std::mem::replace(&mut s.settings.$field, n as _);
                 if let Err(e) = limits::radiance(&s, what) {
@@ -503,15 +451,19 @@ fn register_settings(engine: &mut Engine) {
             });
         };
     }
-    count_property!("samples", samples, 1, MAX_SAMPLES as INT);
-    count_property!("lens_samples", lens_samples, 1, MAX_SAMPLES as INT);
-    count_property!("time_samples", time_samples, 1, MAX_SAMPLES as INT);
-    count_property!("glossy_samples", glossy_samples, 1, MAX_SAMPLES as INT);
-    count_property!("max_depth", max_depth, 0, MAX_DEPTH as INT);
-    count_property!("max_secondary_rays", max_secondary_rays, 1, MAX_SECONDARY_RAYS as INT);
-    count_property!("width", width, 1, MAX_IMAGE_SIZE as INT);
-    count_property!("height", height, 1, MAX_IMAGE_SIZE as INT);
-    count_property!("seed", seed, 0, INT::MAX);
+    count_property!("samples", samples, fields::sample_count);
+    count_property!("lens_samples", lens_samples, fields::sample_count);
+    count_property!("time_samples", time_samples, fields::sample_count);
+    count_property!("glossy_samples", glossy_samples, fields::sample_count);
+    count_property!("max_depth", max_depth, fields::max_depth);
+    count_property!("max_secondary_rays", max_secondary_rays, fields::max_secondary_rays);
+    count_property!("width", width, fields::image_size);
+    count_property!("height", height, fields::image_size);
+    // Any u64 is a seed in a scene file; a script's integers stop at INT::MAX.
+    count_property!("seed", seed, |n: INT| match n >= 0 {
+        true => Ok(()),
+        false => Err(format!("must be in 0..={}, got {n}", INT::MAX)),
+    });
 
     engine.register_get("adaptive", |h: &mut SettingsHandle| match h.0.lock().settings.adaptive {
         Some((threshold, _)) => Dynamic::from_float(threshold),
@@ -524,9 +476,10 @@ fn register_settings(engine: &mut Engine) {
             true => None,
             false => {
                 let threshold = finite(&v, "settings.adaptive")?;
-                if threshold < 0.0 {
-                    return error(format!("settings.adaptive must be >= 0 (or () for off), got {threshold}"));
-                }
+                obeys(
+                    fields::non_negative(threshold as f32),
+                    "settings.adaptive (a threshold, or () for off)",
+                )?;
                 let depth = s.settings.adaptive.map_or(3, |(_, d)| d);
                 Some((threshold, depth))
             }
@@ -544,11 +497,7 @@ fn register_settings(engine: &mut Engine) {
     });
     engine.register_set("adaptive_depth", |h: &mut SettingsHandle, v: Dynamic| -> ScriptResult<()> {
         let depth = integer(&v, "settings.adaptive_depth")?;
-        if !(1..=MAX_ADAPTIVE_DEPTH as INT).contains(&depth) {
-            return error(format!(
-                "settings.adaptive_depth must be in 1..={MAX_ADAPTIVE_DEPTH}, got {depth}"
-            ));
-        }
+        obeys(fields::adaptive_depth(depth), "settings.adaptive_depth")?;
         let mut s = h.0.lock();
         let Some((threshold, _)) = s.settings.adaptive else {
             return error(

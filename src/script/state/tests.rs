@@ -34,3 +34,31 @@ fn an_area_light_moves_by_its_centre() {
     assert_eq!(light_position(&moved), Some(to));
     assert_eq!(moved.position(), Some(DVec3::new(1e6 + 0.01 - 1.0, 3.0, 0.0)));
 }
+
+#[test]
+fn the_script_reads_the_focus_distance_the_renderer_uses() {
+    let mut state = ScriptState::default();
+    state.camera.position = DVec3::new(0.0, 0.0, -5.0);
+    state.camera.look_at = DVec3::new(0.0, 0.0, 3.0);
+    let renderer = |state: &ScriptState| f64::from(state.rig().camera().focus_distance);
+    for focus in [
+        FocusState::LookAt,
+        FocusState::Point(DVec3::new(1.0, 2.0, 4.5)),
+        // Behind the eye (the camera flew past the point): the nearest plane in front, not a
+        // negative distance.
+        FocusState::Point(DVec3::new(0.0, 0.0, -9.0)),
+    ] {
+        state.camera.focus = focus;
+        let distance = state.focus_distance();
+        assert_eq!(distance, renderer(&state), "{focus:?}");
+        assert!(distance > 0.0, "{focus:?}: {distance}");
+    }
+    state.camera.focus = FocusState::LookAt;
+    assert_eq!(state.focus_distance(), 8.0);
+    state.camera.focus = FocusState::Point(DVec3::new(1.0, 2.0, 4.5));
+    assert_eq!(state.focus_distance(), 9.5);
+    // A distance the script wrote reads back as written (the renderer takes it in f32).
+    state.camera.focus = FocusState::Distance(2.3);
+    assert_eq!(state.focus_distance(), 2.3);
+    assert_eq!(renderer(&state), f64::from(2.3f32));
+}
