@@ -1,5 +1,6 @@
 //! Tests of `src/scene/validate.rs`.
 
+use super::objects::polygon;
 use super::*;
 
 fn polygon_rule(vertices: &[Vec3]) -> Option<(String, String)> {

@@ -9,6 +9,7 @@ pub mod math;
 pub mod path;
 pub mod properties;
 pub mod scene;
+pub mod settings;
 pub mod sweep;
 pub mod texture;
 

@@ -11,7 +11,7 @@
 use glam::{DVec3, Vec3};
 use rhai::{Array, Dynamic, Engine, ImmutableString, Module, FLOAT, INT};
 
-use super::convert::{error, finite, integer, vector, ScriptResult};
+use super::convert::{error, finite, vector, ScriptResult};
 use super::limits;
 use super::properties::unknown_name;
 use crate::scene::fields::{self, Rule};
@@ -20,22 +20,10 @@ use crate::script::state::{
     EntityKind, EntityState, FocusState, LightTerms, MaterialParams, ScriptState, SharedState,
 };
 
+pub use super::settings::{SettingsHandle, SETTINGS_PROPERTIES};
+
 /// Camera properties a sweep parameter may name.
 pub const CAMERA_PROPERTIES: &[&str] = &["position", "look_at", "up", "fov", "aperture", "focus_distance"];
-/// Settings properties a sweep parameter may name.
-pub const SETTINGS_PROPERTIES: &[&str] = &[
-    "samples",
-    "lens_samples",
-    "time_samples",
-    "glossy_samples",
-    "max_depth",
-    "max_secondary_rays",
-    "width",
-    "height",
-    "seed",
-    "adaptive",
-    "adaptive_depth",
-];
 
 /// Handle on the camera.
 #[derive(Clone)]
@@ -48,10 +36,6 @@ pub struct EntityHandle {
     index: usize,
 }
 
-/// Handle on the render settings.
-#[derive(Clone)]
-pub struct SettingsHandle(SharedState);
-
 /// Registers the scene API over `state`.
 pub fn register(engine: &mut Engine, state: &SharedState) {
     // Global variables, visible inside functions too (script functions see no outer
@@ -63,7 +47,7 @@ pub fn register(engine: &mut Engine, state: &SharedState) {
     register_clock(engine, state);
     register_camera(engine);
     register_entities(engine, state);
-    register_settings(engine);
+    super::settings::register(engine);
 }
 
 fn register_clock(engine: &mut Engine, state: &SharedState) {
@@ -92,7 +76,7 @@ fn coordinate_vec(v: DVec3, what: &str) -> ScriptResult<DVec3> {
 /// The scene format's rule for a field ([`fields`]), applied to a script write: the error is
 /// `what` (the property written) followed by the rule's words, as a scene file's error has
 /// them after the field.
-fn obeys(rule: Rule, what: &str) -> ScriptResult<()> {
+pub(super) fn obeys(rule: Rule, what: &str) -> ScriptResult<()> {
     match rule {
         Ok(()) => Ok(()),
         Err(rule) => error(format!("{what} {rule}")),
@@ -427,85 +411,4 @@ impl EntityHandle {
             Ok(())
         })
     }
-}
-
-fn register_settings(engine: &mut Engine) {
-    engine.register_type_with_name::<SettingsHandle>("settings");
-    engine.register_fn("to_string", |_: &mut SettingsHandle| "settings".to_string());
-
-    macro_rules! count_property {
-        ($name:literal, $field:ident, $rule:expr) => {
-            engine.register_get($name, |h: &mut SettingsHandle| h.0.lock().settings.$field as INT);
-            engine.register_set($name, |h: &mut SettingsHandle, v: Dynamic| -> ScriptResult<()> {
-                let what = concat!("settings.", $name);
-                let n = integer(&v, what)?;
-                obeys($rule(n), what)?;
-                let mut s = h.0.lock();
-                let old = std::mem::replace(&mut s.settings.$field, n as _);
-                if let Err(e) = limits::radiance(&s, what) {
-                    s.settings.$field = old;
-                    return Err(e);
-                }
-                s.settings_dirty = true;
-                Ok(())
-            });
-        };
-    }
-    count_property!("samples", samples, fields::sample_count);
-    count_property!("lens_samples", lens_samples, fields::sample_count);
-    count_property!("time_samples", time_samples, fields::sample_count);
-    count_property!("glossy_samples", glossy_samples, fields::sample_count);
-    count_property!("max_depth", max_depth, fields::max_depth);
-    count_property!("max_secondary_rays", max_secondary_rays, fields::max_secondary_rays);
-    count_property!("width", width, fields::image_size);
-    count_property!("height", height, fields::image_size);
-    // Any u64 is a seed in a scene file; a script's integers stop at INT::MAX.
-    count_property!("seed", seed, |n: INT| match n >= 0 {
-        true => Ok(()),
-        false => Err(format!("must be in 0..={}, got {n}", INT::MAX)),
-    });
-
-    engine.register_get("adaptive", |h: &mut SettingsHandle| match h.0.lock().settings.adaptive {
-        Some((threshold, _)) => Dynamic::from_float(threshold),
-        None => Dynamic::UNIT,
-    });
-    engine.register_set("adaptive", |h: &mut SettingsHandle, v: Dynamic| -> ScriptResult<()> {
-        let mut s = h.0.lock();
-        let old = s.settings.adaptive;
-        s.settings.adaptive = match v.is_unit() {
-            true => None,
-            false => {
-                let threshold = finite(&v, "settings.adaptive")?;
-                obeys(
-                    fields::non_negative(threshold as f32),
-                    "settings.adaptive (a threshold, or () for off)",
-                )?;
-                let depth = s.settings.adaptive.map_or(3, |(_, d)| d);
-                Some((threshold, depth))
-            }
-        };
-        if let Err(e) = limits::radiance(&s, "settings.adaptive") {
-            s.settings.adaptive = old;
-            return Err(e);
-        }
-        s.settings_dirty = true;
-        Ok(())
-    });
-    engine.register_get("adaptive_depth", |h: &mut SettingsHandle| match h.0.lock().settings.adaptive {
-        Some((_, depth)) => Dynamic::from_int(depth as INT),
-        None => Dynamic::UNIT,
-    });
-    engine.register_set("adaptive_depth", |h: &mut SettingsHandle, v: Dynamic| -> ScriptResult<()> {
-        let depth = integer(&v, "settings.adaptive_depth")?;
-        obeys(fields::adaptive_depth(depth), "settings.adaptive_depth")?;
-        let mut s = h.0.lock();
-        let Some((threshold, _)) = s.settings.adaptive else {
-            return error(
-                "settings.adaptive_depth: adaptive supersampling is off; set settings.adaptive first",
-            );
-        };
-        s.settings.adaptive = Some((threshold, depth as u32));
-        s.settings_dirty = true;
-        Ok(())
-    });
 }

@@ -1,6 +1,9 @@
 //! Tests of `src/script/state.rs`.
 
+use super::sync::{light_position, moved_light};
 use super::*;
+use crate::trace;
+use crate::world::components::Light;
 
 #[test]
 fn degrees_round_trip_through_the_scene_rotation() {
