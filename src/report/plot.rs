@@ -15,11 +15,17 @@
 //! the plot says so. Points with no positive time or rays are left out, also with a note.
 //! Degenerate data (no points, one point, equal times, no costs) never panics; with nothing to
 //! draw the plot says "no data".
+//!
+//! `error_chart` draws the two log-log error plots, `costs` the bar chart and `frame` what
+//! surrounds every chart: the title, the legend column, the note under the axes and the
+//! "no data" plate.
 
+mod costs;
+mod error_chart;
+mod frame;
 mod raster;
 mod scale;
 
-use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
@@ -27,13 +33,14 @@ use image::codecs::png::PngEncoder;
 use image::{ExtendedColorType, ImageEncoder};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::{register_font, FontStyle};
 
+use self::costs::draw_costs;
+use self::error_chart::draw_error_chart;
+pub use self::frame::LEGEND_WIDTH;
 use self::raster::Raster;
 pub(crate) use self::scale::format_number;
-use self::scale::{log_ticks, padded_log_range};
-use super::{Point, Report};
+use super::Report;
 use crate::film::{write_atomically, OutputError};
 
 /// File stem of the error-against-time plot.
@@ -197,72 +204,6 @@ fn write_plot(plot: &Plot, dir: &Path, stem: &str) -> Result<Vec<PathBuf>, PlotE
     Ok(vec![png_path, svg_path])
 }
 
-/// One axis's points, ready for log-log axes.
-struct Series {
-    name: String,
-    /// (x, y, index into `report.points`), in sweep order.
-    points: Vec<(f64, f64, usize)>,
-}
-
-/// The points of a log-log error plot, with what had to be adjusted to draw them.
-struct ErrorData {
-    series: Vec<Series>,
-    x: Range<f64>,
-    y: Range<f64>,
-    /// Where RMSE-0 points are drawn, if there are any.
-    zero_at: Option<f64>,
-    /// Points left out for a non-positive or non-finite x or RMSE.
-    left_out: usize,
-}
-
-/// Groups the drawable points by axis (and AA pattern); `None` when none is drawable.
-fn error_data(report: &Report, x_of: impl Fn(&Point) -> f64) -> Option<ErrorData> {
-    let drawable = |p: &Point| {
-        let x = x_of(p);
-        x.is_finite() && x > 0.0 && p.rmse.is_finite() && p.rmse >= 0.0
-    };
-    let smallest = report
-        .points
-        .iter()
-        .filter(|p| drawable(p) && p.rmse > 0.0)
-        .map(|p| p.rmse)
-        .fold(f64::INFINITY, f64::min);
-    // With no positive RMSE at all, any level will do: there is nothing to compare with.
-    let floor = if smallest.is_finite() { smallest / 2.0 } else { 1e-3 };
-
-    let mut series: Vec<Series> = Vec::new();
-    let (mut left_out, mut zeros) = (0, 0);
-    for (i, p) in report.points.iter().enumerate() {
-        if !drawable(p) {
-            left_out += 1;
-            continue;
-        }
-        let y = if p.rmse > 0.0 {
-            p.rmse
-        } else {
-            zeros += 1;
-            floor
-        };
-        // One curve per axis, and per pattern where the axis sweeps patterns too.
-        let name = match p.params.iter().find(|(k, _)| k == "pattern") {
-            Some((_, pattern)) => format!("{} {pattern}", p.axis),
-            None => p.axis.clone(),
-        };
-        match series.iter_mut().find(|s| s.name == name) {
-            Some(s) => s.points.push((x_of(p), y, i)),
-            None => series.push(Series { name, points: vec![(x_of(p), y, i)] }),
-        }
-    }
-    let all = || series.iter().flat_map(|s| s.points.iter());
-    let x = padded_log_range(all().map(|p| p.0))?;
-    let mut y = padded_log_range(all().map(|p| p.1))?;
-    if zeros > 0 {
-        // Room under the lowest points for the arrows that mark RMSE 0.
-        y.start = y.start.min(floor / 10f64.powf(0.25));
-    }
-    Some(ErrorData { series, x, y, zero_at: (zeros > 0).then_some(floor), left_out })
-}
-
 /// Corners of marker shape `k` (circle, triangle, square, diamond, …) around (0, 0), in pixels.
 fn marker_shape(k: usize) -> Vec<(i32, i32)> {
     match k % 4 {
@@ -276,276 +217,6 @@ fn marker_shape(k: usize) -> Vec<(i32, i32)> {
         2 => vec![(-4, -4), (4, -4), (4, 4), (-4, 4)],
         _ => vec![(0, -6), (5, 0), (0, 6), (-5, 0)],
     }
-}
-
-/// A log-log chart of RMSE against `x_of`, one series per axis; `front` adds the Pareto front
-/// of (seconds, RMSE), which only makes sense when x is the time.
-fn draw_error_chart<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    report: &Report,
-    title: &str,
-    x_desc: &str,
-    x_of: impl Fn(&Point) -> f64,
-    front: bool,
-) -> Drawn<DB> {
-    let Some(data) = error_data(report, &x_of) else {
-        return draw_no_data(root, title, "no variant has a positive value and a finite RMSE");
-    };
-    let mut notes = Vec::new();
-    if let Some(at) = data.zero_at {
-        notes.push(format!("↓ RMSE 0 (equal to the reference), drawn at {}", format_number(at)));
-    }
-    if data.left_out > 0 {
-        notes.push(format!("{} variant(s) without a positive value left out", data.left_out));
-    }
-    let area = with_note(root, &notes.join("; "))?;
-    let (area, legend) = with_legend(&area, title)?;
-
-    let (xb, xl) = log_ticks(&data.x);
-    let (yb, yl) = log_ticks(&data.y);
-    let mut chart = ChartBuilder::on(&area)
-        .margin(14)
-        .margin_top(4)
-        .x_label_area_size(46)
-        .y_label_area_size(62)
-        .build_cartesian_2d(
-            data.x.clone().log_scale().with_key_points(xb).with_light_points(xl),
-            data.y.clone().log_scale().with_key_points(yb).with_light_points(yl),
-        )?;
-    chart
-        .configure_mesh()
-        .x_desc(x_desc)
-        .y_desc("RMSE against the reference")
-        .x_label_formatter(&|v| format_number(*v))
-        .y_label_formatter(&|v| format_number(*v))
-        .label_style((FONT, 13).into_font().color(&INK))
-        .axis_desc_style((FONT, 15).into_font().color(&INK))
-        .bold_line_style(GRID_BOLD)
-        .light_line_style(GRID_LIGHT)
-        .axis_style(MUTED)
-        .draw()?;
-
-    // The Pareto front first, so that the series are drawn over it.
-    let mut entries = Vec::new();
-    if front {
-        let points: Vec<(f64, f64)> = report
-            .pareto_front()
-            .into_iter()
-            .filter_map(|i| data.series.iter().flat_map(|s| &s.points).find(|p| p.2 == i))
-            .map(|p| (p.0, p.1))
-            .collect();
-        if !points.is_empty() {
-            let mut steps = vec![points[0]];
-            for w in points.windows(2) {
-                steps.push((w[1].0, w[0].1));
-                steps.push(w[1]);
-            }
-            let style = FRONT.stroke_width(2);
-            chart.draw_series(DashedLineSeries::new(steps, 7, 5, style))?;
-            entries.push(("Pareto front".to_owned(), Mark::Front));
-            chart.draw_series(points.iter().map(|&p| Circle::new(p, 9, FRONT.stroke_width(2))))?;
-        }
-    }
-
-    for (k, s) in data.series.iter().enumerate() {
-        let colour = PALETTE[k % PALETTE.len()];
-        let line = colour.stroke_width(2);
-        let shape = marker_shape(k);
-        chart.draw_series(LineSeries::new(s.points.iter().map(|p| (p.0, p.1)), line))?;
-        entries.push((s.name.clone(), Mark::Series(k)));
-        chart.draw_series(
-            s.points
-                .iter()
-                .map(|p| EmptyElement::at((p.0, p.1)) + Polygon::new(shape.clone(), colour.filled())),
-        )?;
-        // An arrow down from each point drawn above its true RMSE of 0.
-        let zeros = s.points.iter().filter(|p| report.points.get(p.2).is_some_and(|q| q.rmse <= 0.0));
-        chart.draw_series(zeros.map(|p| {
-            EmptyElement::at((p.0, p.1))
-                + PathElement::new(vec![(0, 8), (0, 17)], line)
-                + Polygon::new(vec![(-4, 15), (4, 15), (0, 22)], colour.filled())
-        }))?;
-    }
-
-    draw_legend(&legend, &entries)
-}
-
-/// The grouped bar chart of effect costs.
-fn draw_costs<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, report: &Report) -> Drawn<DB> {
-    let title = format!("Effect costs — {}", report.scene);
-    let costs: Vec<_> = report
-        .costs
-        .iter()
-        .filter(|c| c.seconds_on.is_finite() && c.seconds_off.is_finite())
-        .map(|c| (c.effect.as_str(), c.seconds_on.max(0.0), c.seconds_off.max(0.0)))
-        .collect();
-    if costs.is_empty() {
-        return draw_no_data(root, &title, "no effect costs were measured");
-    }
-    let max = costs.iter().map(|c| c.1.max(c.2)).fold(0.0, f64::max);
-    let (unit, scale) = if max < 1.0 { ("ms", 1e3) } else { ("s", 1.0) };
-    let top = if max > 0.0 { max * scale * 1.3 } else { 1.0 };
-    let n = costs.len() as u32;
-    let labels: Vec<String> = costs
-        .iter()
-        .map(
-            |&(effect, on, off)| {
-                if off > 0.0 {
-                    format!("{effect} (×{:.1})", on / off)
-                } else {
-                    effect.to_string()
-                }
-            },
-        )
-        .collect();
-
-    let area = with_note(root, "ratio in brackets: time with the scene's setting / time with one sample")?;
-    let (area, legend) = with_legend(&area, &title)?;
-    let mut chart = ChartBuilder::on(&area)
-        .margin(14)
-        .margin_top(4)
-        .x_label_area_size(46)
-        .y_label_area_size(62)
-        .build_cartesian_2d((0..n - 1).into_segmented(), 0.0..top)?;
-    chart
-        .configure_mesh()
-        .disable_x_mesh()
-        .x_labels(costs.len() + 1)
-        .max_light_lines(1)
-        .x_desc("effect")
-        .y_desc(format!("median render time ({unit})"))
-        .x_label_formatter(&|v| match v {
-            SegmentValue::CenterOf(i) => labels.get(*i as usize).cloned().unwrap_or_default(),
-            _ => String::new(),
-        })
-        .y_label_formatter(&|v| format_number(*v))
-        .label_style((FONT, 13).into_font().color(&INK))
-        .axis_desc_style((FONT, 15).into_font().color(&INK))
-        .bold_line_style(GRID_BOLD)
-        .light_line_style(GRID_LIGHT)
-        .axis_style(MUTED)
-        .draw()?;
-
-    // Bars: the left half of each group's segment is the scene's setting, the right half one
-    // sample, with a gap of `outer` pixels to the group's edges and `inner` between the bars.
-    let segment = chart.plotting_area().dim_in_pixel().0 as f64 / f64::from(n);
-    let outer = (segment * 0.14).round() as u32;
-    let inner = (segment * 0.01).round().max(1.0) as u32;
-    let bar_centre = ((segment / 2.0 - f64::from(outer) - f64::from(inner)) / 2.0) as i32;
-    let value_style =
-        TextStyle::from((FONT, 12).into_font()).color(&INK).pos(Pos::new(HPos::Center, VPos::Bottom));
-    let [on_colour, off_colour] = [PALETTE[0], RGBColor(160, 190, 214)];
-    let mut entries = Vec::new();
-    for (half, colour, name) in [(0, on_colour, "scene setting"), (1, off_colour, "one sample / off")] {
-        entries.push((name.to_owned(), Mark::Bar(colour)));
-        chart.draw_series(costs.iter().enumerate().map(|(i, c)| {
-            let i = i as u32;
-            let v = if half == 0 { c.1 } else { c.2 } * scale;
-            let (from, to, margin) = if half == 0 {
-                (SegmentValue::Exact(i), SegmentValue::CenterOf(i), (outer, inner))
-            } else {
-                (SegmentValue::CenterOf(i), SegmentValue::Exact(i + 1), (inner, outer))
-            };
-            let mut bar = Rectangle::new([(from, v), (to, 0.0)], colour.filled());
-            bar.set_margin(0, 0, margin.0, margin.1);
-            bar
-        }))?;
-        chart.draw_series(costs.iter().enumerate().map(|(i, c)| {
-            let v = if half == 0 { c.1 } else { c.2 } * scale;
-            let dx = if half == 0 { -bar_centre - inner as i32 } else { bar_centre + inner as i32 };
-            EmptyElement::at((SegmentValue::CenterOf(i as u32), v))
-                + Text::new(format_number(v), (dx, -3), value_style.clone())
-        }))?;
-    }
-
-    draw_legend(&legend, &entries)
-}
-
-/// Width in pixels of the legend column right of every plot's axes.
-pub const LEGEND_WIDTH: u32 = 160;
-
-/// What a legend entry shows beside its name.
-enum Mark {
-    /// The Pareto front: a dashed grey line through a circle.
-    Front,
-    /// Series `k`: its colour's line and marker shape.
-    Series(usize),
-    /// A bar of this colour.
-    Bar(RGBColor),
-}
-
-/// Writes `title` over the whole width of `area` and splits what is under it into the
-/// chart's area and a [`LEGEND_WIDTH`] column on the right for the legend, so that the legend
-/// never covers data.
-#[allow(clippy::type_complexity)]
-fn with_legend<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    title: &str,
-) -> Result<(DrawingArea<DB, Shift>, DrawingArea<DB, Shift>), DrawingAreaErrorKind<DB::ErrorType>> {
-    let below = area.titled(title, (FONT, 22).into_font().color(&INK))?;
-    let width = below.dim_in_pixel().0;
-    Ok(below.split_horizontally(width.saturating_sub(LEGEND_WIDTH)))
-}
-
-/// Draws the legend `entries` (name and mark) top-down in `column`.
-fn draw_legend<DB: DrawingBackend>(column: &DrawingArea<DB, Shift>, entries: &[(String, Mark)]) -> Drawn<DB> {
-    let style = TextStyle::from((FONT, 14).into_font()).color(&INK).pos(Pos::new(HPos::Left, VPos::Center));
-    for (row, (name, mark)) in entries.iter().enumerate() {
-        let (x, y) = (16, 14 + 24 * row as i32);
-        match mark {
-            Mark::Front => {
-                let line = FRONT.stroke_width(2);
-                column.draw(
-                    &(EmptyElement::at((x, y))
-                        + PathElement::new(vec![(-12, 0), (-4, 0)], line)
-                        + PathElement::new(vec![(4, 0), (12, 0)], line)
-                        + Circle::new((0, 0), 6, line)),
-                )?;
-            }
-            Mark::Series(k) => {
-                let colour = PALETTE[k % PALETTE.len()];
-                column.draw(
-                    &(EmptyElement::at((x, y))
-                        + PathElement::new(vec![(-12, 0), (12, 0)], colour.stroke_width(2))
-                        + Polygon::new(marker_shape(*k), colour.filled())),
-                )?;
-            }
-            Mark::Bar(colour) => {
-                column.draw(&Rectangle::new([(x - 7, y - 6), (x + 7, y + 6)], colour.filled()))?
-            }
-        }
-        column.draw(&Text::new(name.clone(), (x + 20, y), style.clone()))?;
-    }
-    Ok(())
-}
-
-/// Writes `note` in small grey type under the plot and returns the area above it (all of
-/// `root` when the note is empty).
-fn with_note<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    note: &str,
-) -> Result<DrawingArea<DB, Shift>, DrawingAreaErrorKind<DB::ErrorType>> {
-    if note.is_empty() {
-        return Ok(root.clone());
-    }
-    let (upper, lower) = root.split_vertically(HEIGHT - 22);
-    let style = TextStyle::from((FONT, 12).into_font()).color(&MUTED).pos(Pos::new(HPos::Right, VPos::Top));
-    lower.draw(&Text::new(note.to_string(), (WIDTH as i32 - 28, 2), style))?;
-    Ok(upper)
-}
-
-/// A plot with only its title, "no data" and why.
-fn draw_no_data<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, title: &str, why: &str) -> Drawn<DB> {
-    let area = root.titled(title, (FONT, 22).into_font().color(&INK))?;
-    let (w, h) = area.dim_in_pixel();
-    let (cx, cy) = (w as i32 / 2, h as i32 / 2);
-    area.draw(&Rectangle::new([(40, 30), (w as i32 - 40, h as i32 - 40)], GRID_BOLD.stroke_width(1)))?;
-    let centred = |size: u32| {
-        TextStyle::from((FONT, size).into_font()).color(&MUTED).pos(Pos::new(HPos::Center, VPos::Center))
-    };
-    area.draw(&Text::new("no data", (cx, cy - 14), centred(28)))?;
-    area.draw(&Text::new(why.to_string(), (cx, cy + 18), centred(14)))?;
-    Ok(())
 }
 
 #[cfg(test)]

@@ -20,16 +20,26 @@
 //! samples (`camera.time.samples`, time samples per camera sample); it changes the image only
 //! where something moves while the shutter is open, which takes a script (`penumbra report
 //! --script`).
+//!
+//! `axis` holds the axes of a sweep file and their rules, `variant` the settings they expand to
+//! and how each is applied to a scene, `reference_settings` how the reference is rendered.
+
+mod axis;
+mod reference_settings;
+mod variant;
 
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
+pub use self::axis::Axis;
+pub use self::reference_settings::ReferenceSettings;
+pub use self::variant::{Setting, Variant};
 use crate::sample::adaptive::AdaptiveSettings;
 use crate::sample::Pattern;
 use crate::scene::locate::{path_at, position_of, FieldPath};
-use crate::scene::validate::{MAX_ADAPTIVE_DEPTH, MAX_NOISE_SAMPLES, MAX_SAMPLES};
-use crate::scene::{AdaptiveDesc, LightDesc, NoiseDesc, SceneDesc};
+use crate::scene::validate::MAX_SAMPLES;
+use crate::scene::{LightDesc, SceneDesc};
 use crate::trace::Effects;
 
 /// Why a sweep file could not be loaded; displays like a scene error,
@@ -58,361 +68,6 @@ pub enum SweepError {
         /// What is wrong and what is allowed.
         rule: String,
     },
-}
-
-/// One axis of a sweep.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub enum Axis {
-    /// Anti-aliasing samples per pixel, for each pattern.
-    Aa {
-        /// Sample counts.
-        samples: Vec<u32>,
-        /// Patterns (default: jittered only).
-        #[serde(default = "jittered")]
-        patterns: Vec<Pattern>,
-    },
-    /// Adaptive supersampling: every threshold at every depth.
-    Adaptive {
-        /// Corner thresholds.
-        thresholds: Vec<f32>,
-        /// Deepest levels (default 3).
-        #[serde(default = "depth_3")]
-        depths: Vec<u32>,
-    },
-    /// Shadow samples of every area light.
-    AreaLight {
-        /// Sample counts.
-        samples: Vec<u32>,
-    },
-    /// Rays per glossy reflection or blurry refraction.
-    Glossy {
-        /// Sample counts.
-        samples: Vec<u32>,
-    },
-    /// Lens samples per camera sample.
-    Lens {
-        /// Sample counts.
-        samples: Vec<u32>,
-    },
-    /// Time samples per camera sample (motion blur: the shutter's samples).
-    Time {
-        /// Sample counts.
-        samples: Vec<u32>,
-    },
-    /// Noise-driven adaptive sampling: every target error, in batches of `aa` AA samples (with
-    /// the scene's lens, time and effect samples).
-    Noise {
-        /// Target errors (display units, 0..1).
-        targets: Vec<f32>,
-        /// AA samples per batch (default 4: a stratified batch; one sample per batch gives up
-        /// stratification and measured 2-3x worse).
-        #[serde(default = "four")]
-        aa: u32,
-        /// Camera samples every pixel takes first (default 8).
-        #[serde(default = "eight")]
-        min_samples: u32,
-        /// Camera samples no pixel exceeds (default 4096).
-        #[serde(default = "many")]
-        max_samples: u32,
-    },
-}
-
-fn four() -> u32 {
-    4
-}
-
-fn eight() -> u32 {
-    8
-}
-
-fn many() -> u32 {
-    4096
-}
-
-fn jittered() -> Vec<Pattern> {
-    vec![Pattern::Jittered]
-}
-
-fn depth_3() -> Vec<u32> {
-    vec![3]
-}
-
-impl Axis {
-    /// The axis name in tables and plots.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Axis::Aa { .. } => "aa",
-            Axis::Adaptive { .. } => "adaptive",
-            Axis::AreaLight { .. } => "area_light",
-            Axis::Glossy { .. } => "glossy",
-            Axis::Lens { .. } => "lens",
-            Axis::Time { .. } => "time",
-            Axis::Noise { .. } => "noise",
-        }
-    }
-
-    /// Every variant of the axis.
-    pub fn variants(&self) -> Vec<Variant> {
-        let counts =
-            |samples: &[u32], make: fn(u32) -> Setting| samples.iter().map(|&n| make(n)).collect::<Vec<_>>();
-        let settings = match self {
-            Axis::Aa { samples, patterns } => {
-                patterns.iter().flat_map(|&p| samples.iter().map(move |&n| Setting::Aa(n, p))).collect()
-            }
-            Axis::Adaptive { thresholds, depths } => depths
-                .iter()
-                .flat_map(|&d| thresholds.iter().map(move |&t| Setting::Adaptive(t, d)))
-                .collect(),
-            Axis::AreaLight { samples } => counts(samples, Setting::AreaLight),
-            Axis::Glossy { samples } => counts(samples, Setting::Glossy),
-            Axis::Lens { samples } => counts(samples, Setting::Lens),
-            Axis::Time { samples } => counts(samples, Setting::Time),
-            Axis::Noise { targets, aa, min_samples, max_samples } => {
-                targets.iter().map(|&t| Setting::Noise(t, *aa, *min_samples, *max_samples)).collect()
-            }
-        };
-        settings.into_iter().map(|setting| Variant { axis: self.name(), setting }).collect()
-    }
-
-    /// The first rule the axis breaks, if any: the field (`samples`, `patterns`, ...) and
-    /// the rule. With `samples`, the index of the offending value is in the field.
-    fn check(&self) -> Result<(), (String, String)> {
-        let counts = |samples: &[u32]| -> Result<(), (String, String)> {
-            if samples.is_empty() {
-                return Err(("samples".into(), "lists no values; give at least one sample count".into()));
-            }
-            match samples.iter().position(|n| !(1..=MAX_SAMPLES).contains(n)) {
-                Some(i) => Err((
-                    format!("samples[{i}]"),
-                    format!("sample count must be in 1..={MAX_SAMPLES}, got {}", samples[i]),
-                )),
-                None => Ok(()),
-            }
-        };
-        match self {
-            Axis::Aa { samples, patterns } if patterns.is_empty() => {
-                counts(samples)?;
-                Err(("patterns".into(), "lists no values; give at least one pattern".into()))
-            }
-            Axis::Aa { samples, .. }
-            | Axis::AreaLight { samples }
-            | Axis::Glossy { samples }
-            | Axis::Lens { samples }
-            | Axis::Time { samples } => counts(samples),
-            Axis::Noise { targets, aa, min_samples, max_samples } => {
-                if targets.is_empty() {
-                    return Err(("targets".into(), "lists no values; give at least one target error".into()));
-                }
-                if let Some(i) = targets.iter().position(|t| !(0.0..=1.0).contains(t)) {
-                    return Err((
-                        format!("targets[{i}]"),
-                        format!("target error must be in [0, 1], got {}", targets[i]),
-                    ));
-                }
-                if !(1..=MAX_SAMPLES).contains(aa) {
-                    return Err(("aa".into(), format!("must be in 1..={MAX_SAMPLES}, got {aa}")));
-                }
-                if !(1..=MAX_NOISE_SAMPLES).contains(min_samples) {
-                    return Err((
-                        "min_samples".into(),
-                        format!("must be in 1..={MAX_NOISE_SAMPLES}, got {min_samples}"),
-                    ));
-                }
-                if !(*min_samples..=MAX_NOISE_SAMPLES).contains(max_samples) {
-                    let rule = format!("must be in min_samples..={MAX_NOISE_SAMPLES}, got {max_samples}");
-                    return Err(("max_samples".into(), rule));
-                }
-                Ok(())
-            }
-            Axis::Adaptive { thresholds, depths } => {
-                if thresholds.is_empty() {
-                    return Err(("thresholds".into(), "lists no values; give at least one threshold".into()));
-                }
-                if depths.is_empty() {
-                    return Err(("depths".into(), "lists no values; give at least one depth".into()));
-                }
-                if let Some(i) = thresholds.iter().position(|t| !(t.is_finite() && *t >= 0.0)) {
-                    return Err((
-                        format!("thresholds[{i}]"),
-                        format!("threshold must be finite and >= 0, got {}", thresholds[i]),
-                    ));
-                }
-                match depths.iter().position(|d| !(1..=MAX_ADAPTIVE_DEPTH).contains(d)) {
-                    Some(i) => Err((
-                        format!("depths[{i}]"),
-                        format!("depth must be in 1..={MAX_ADAPTIVE_DEPTH}, got {}", depths[i]),
-                    )),
-                    None => Ok(()),
-                }
-            }
-        }
-    }
-}
-
-/// One setting of one axis.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Setting {
-    /// AA samples and pattern (adaptive off).
-    Aa(u32, Pattern),
-    /// Adaptive threshold and depth.
-    Adaptive(f32, u32),
-    /// Area-light samples.
-    AreaLight(u32),
-    /// Glossy/blurry rays.
-    Glossy(u32),
-    /// Lens samples.
-    Lens(u32),
-    /// Time samples.
-    Time(u32),
-    /// Noise-driven sampling: target error, AA samples per batch, minimum and maximum samples.
-    Noise(f32, u32, u32, u32),
-}
-
-/// A point of the sweep: its axis and setting.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Variant {
-    /// Axis name.
-    pub axis: &'static str,
-    /// The setting.
-    pub setting: Setting,
-}
-
-fn pattern_name(p: Pattern) -> &'static str {
-    match p {
-        Pattern::Grid => "grid",
-        Pattern::Random => "random",
-        Pattern::Jittered => "jittered",
-    }
-}
-
-impl Variant {
-    /// Label for tables and plots, e.g. `aa 16 jittered` or `area_light 4`: the axis name is
-    /// the effect name `penumbra render --samples` takes.
-    pub fn label(&self) -> String {
-        match self.setting {
-            Setting::Aa(n, p) => format!("aa {n} {}", pattern_name(p)),
-            Setting::Adaptive(t, d) => format!("adaptive {t}:{d}"),
-            Setting::AreaLight(n) => format!("area_light {n}"),
-            Setting::Glossy(n) => format!("glossy {n}"),
-            Setting::Lens(n) => format!("lens {n}"),
-            Setting::Time(n) => format!("time {n}"),
-            Setting::Noise(t, ..) => format!("noise {t}"),
-        }
-    }
-
-    /// Parameter names and values.
-    pub fn params(&self) -> Vec<(String, String)> {
-        let pair = |k: &str, v: String| (k.to_owned(), v);
-        match self.setting {
-            Setting::Aa(n, p) => {
-                vec![pair("samples", n.to_string()), pair("pattern", pattern_name(p).into())]
-            }
-            Setting::Adaptive(t, d) => vec![pair("threshold", t.to_string()), pair("depth", d.to_string())],
-            Setting::AreaLight(n) | Setting::Glossy(n) | Setting::Lens(n) | Setting::Time(n) => {
-                vec![pair("samples", n.to_string())]
-            }
-            Setting::Noise(t, aa, lo, hi) => vec![
-                pair("target_error", t.to_string()),
-                pair("aa", aa.to_string()),
-                pair("min_samples", lo.to_string()),
-                pair("max_samples", hi.to_string()),
-            ],
-        }
-    }
-
-    /// The scene with this setting applied.
-    pub fn apply(&self, desc: &SceneDesc) -> SceneDesc {
-        let mut d = desc.clone();
-        match self.setting {
-            Setting::Aa(n, p) => {
-                d.settings.aa.samples = n;
-                d.settings.aa.pattern = p;
-                d.settings.adaptive = None;
-                d.settings.noise = None;
-            }
-            Setting::Adaptive(threshold, max_depth) => {
-                d.settings.adaptive = Some(AdaptiveDesc { threshold, max_depth });
-                d.settings.noise = None;
-            }
-            Setting::AreaLight(n) => set_area_samples(&mut d, n),
-            Setting::Glossy(n) => d.settings.glossy.samples = n,
-            Setting::Lens(n) => d.camera.lens.samples = n,
-            Setting::Time(n) => d.camera.time.samples = n,
-            Setting::Noise(target_error, aa, min_samples, max_samples) => {
-                d.settings.adaptive = None;
-                d.settings.aa.samples = aa;
-                d.settings.noise =
-                    Some(NoiseDesc { target_error, min_samples, max_samples, time_limit: None });
-            }
-        }
-        d
-    }
-}
-
-fn set_area_samples(d: &mut SceneDesc, n: u32) {
-    for light in &mut d.lights {
-        if let LightDesc::Rect { samples, .. } | LightDesc::Disk { samples, .. } = light {
-            *samples = n;
-        }
-    }
-}
-
-/// How the reference is rendered: every effect's sample count, far above the sweep's.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct ReferenceSettings {
-    /// AA samples (jittered, box or the scene's filter; adaptive off).
-    pub aa: u32,
-    /// Lens samples per camera sample (with an aperture).
-    pub lens: u32,
-    /// Area-light samples.
-    pub area_light: u32,
-    /// Glossy/blurry rays.
-    pub glossy: u32,
-    /// Time samples per camera sample (where something moves).
-    pub time: u32,
-}
-
-impl Default for ReferenceSettings {
-    fn default() -> Self {
-        Self { aa: 64, lens: 16, area_light: 256, glossy: 256, time: 4 }
-    }
-}
-
-impl ReferenceSettings {
-    /// The scene as the reference renders it.
-    pub fn apply(&self, desc: &SceneDesc) -> SceneDesc {
-        let mut d = desc.clone();
-        d.settings.aa.samples = self.aa;
-        d.settings.aa.pattern = Pattern::Jittered;
-        d.settings.adaptive = None;
-        d.settings.noise = None;
-        d.camera.lens.samples = self.lens;
-        d.settings.glossy.samples = self.glossy;
-        d.camera.time.samples = self.time;
-        d.camera.time.pattern = Pattern::Jittered;
-        set_area_samples(&mut d, self.area_light);
-        d
-    }
-
-    /// `aa 64 jittered, lens 16, area_light 256, …`, naming only the effects the scene uses.
-    pub fn describe(&self, effects: &Effects) -> String {
-        let mut parts = vec![format!("aa {} jittered", self.aa)];
-        if effects.lens {
-            parts.push(format!("lens {}", self.lens));
-        }
-        if effects.area_lights {
-            parts.push(format!("area_light {}", self.area_light));
-        }
-        if effects.glossy || effects.blurry {
-            parts.push(format!("glossy {}", self.glossy));
-        }
-        if effects.motion {
-            parts.push(format!("time {}", self.time));
-        }
-        parts.join(", ")
-    }
 }
 
 /// A whole sweep.
@@ -534,6 +189,15 @@ pub fn adaptive_of(desc: &SceneDesc) -> Option<AdaptiveSettings> {
         .adaptive
         .as_ref()
         .map(|a| AdaptiveSettings { threshold: a.threshold, max_depth: a.max_depth })
+}
+
+/// Sets the samples of every area light (rect and disk) to `n`.
+fn set_area_samples(d: &mut SceneDesc, n: u32) {
+    for light in &mut d.lights {
+        if let LightDesc::Rect { samples, .. } | LightDesc::Disk { samples, .. } = light {
+            *samples = n;
+        }
+    }
 }
 
 #[cfg(test)]

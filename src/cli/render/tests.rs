@@ -1,5 +1,8 @@
-//! Tests of `src/cli/render.rs`.
+//! Tests of `src/cli/render.rs` and its modules.
 
+use penumbra::simd::SimdLevel;
+
+use super::frame_args::simd_refusal;
 use super::*;
 
 #[test]

@@ -1,7 +1,7 @@
 //! Tests of `src/report/plot.rs`.
 
 use super::*;
-use crate::report::{EffectCost, Reference};
+use crate::report::{EffectCost, Point, Reference};
 use crate::trace::RayCounts;
 
 fn point(axis: &str, label: &str, seconds: f64, rays: u64, rmse: f64) -> Point {
