@@ -46,8 +46,8 @@ fn showcase() -> (std::sync::Arc<TraceScene>, RenderSettings) {
 
 fn fixed(settings: &RenderSettings, spp: u32) -> RenderSettings {
     let mut s = *settings;
-    s.aa.sampling.samples = spp;
-    s.aa.sampling.pattern = Pattern::Jittered;
+    s.aa.samples = spp;
+    s.aa.pattern = Pattern::Jittered;
     s.adaptive = None;
     s
 }

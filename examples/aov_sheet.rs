@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 use image::{imageops, ImageEncoder, RgbImage};
 use penumbra::film::{write_atomically, write_image, AovSet, Metadata, OutputFormat, ToneMapping};
-use penumbra::scene::{self, AdaptiveDesc};
+use penumbra::scene::{self, AdaptiveSettings};
 use penumbra::trace::render_with_aovs;
 use penumbra::world::SceneWorld;
 
@@ -18,7 +18,7 @@ fn main() -> anyhow::Result<()> {
     let out = std::env::args().nth(1).map_or_else(|| root.join("docs/aovs.png"), PathBuf::from);
     let mut desc = scene::load_scene(&root.join("scenes/showcase.ron"))?;
     (desc.camera.width, desc.camera.height) = SIZE;
-    desc.settings.adaptive = Some(AdaptiveDesc { threshold: 0.05, max_depth: 3 });
+    desc.settings.adaptive = Some(AdaptiveSettings { threshold: 0.05, max_depth: 3 });
     let mut world: SceneWorld = scene::spawn_world(&desc);
     let snapshot = world.update();
     let all = AovSet { depth: true, normal: true, albedo: true, object: true, cost: true };

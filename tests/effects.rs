@@ -297,7 +297,7 @@ fn flat_scene(adaptive: bool, aa: u32) -> SceneDesc {
     d.settings.aa.samples = aa;
     d.settings.aa.pattern = penumbra::sample::Pattern::Grid;
     if adaptive {
-        d.settings.adaptive = Some(scene::AdaptiveDesc { threshold: 0.05, max_depth: 2 });
+        d.settings.adaptive = Some(scene::AdaptiveSettings { threshold: 0.05, max_depth: 2 });
     }
     d
 }
@@ -354,7 +354,7 @@ fn every_effect_on_gives_identical_bytes_on_one_and_two_threads() {
     });
     for adaptive in [false, true] {
         if adaptive {
-            d.settings.adaptive = Some(scene::AdaptiveDesc { threshold: 0.02, max_depth: 2 });
+            d.settings.adaptive = Some(scene::AdaptiveSettings { threshold: 0.02, max_depth: 2 });
         }
         let mut world: SceneWorld = scene::spawn_world(&d);
         let snapshot = world.update();

@@ -14,7 +14,7 @@ use std::process::{Command, Output};
 
 use penumbra::film::{read_exr, write_image, Film, Metadata, OutputFormat, ToneMapping};
 use penumbra::math::Vec3;
-use penumbra::scene::{self, AdaptiveDesc, LightDesc, SceneDesc};
+use penumbra::scene::{self, AdaptiveSettings, LightDesc, SceneDesc};
 use penumbra::trace::finite::FIRST_PIXELS;
 use penumbra::trace::{render, RenderStats};
 use penumbra::world::SceneWorld;
@@ -273,7 +273,7 @@ fn a_huge_background_summed_over_samples_renders_finite() {
     desc.settings.aa.samples = 4;
     let film = assert_finite_lib(&desc);
     assert_eq!(film.pixels[0], Vec3::splat(3e38), "the top-left corner sees only the sky");
-    desc.settings.adaptive = Some(AdaptiveDesc { threshold: 0.05, max_depth: 2 });
+    desc.settings.adaptive = Some(AdaptiveSettings { threshold: 0.05, max_depth: 2 });
     let film = assert_finite_lib(&desc);
     assert_eq!(film.pixels[0], Vec3::splat(3e38));
 }
@@ -331,7 +331,7 @@ fn non_finite_samples_are_dropped_counted_and_listed_from_the_lowest_pixel() {
 
 #[test]
 fn dropped_counts_and_first_pixels_are_the_same_for_one_and_two_threads() {
-    for adaptive in [None, Some(AdaptiveDesc { threshold: 0.05, max_depth: 2 })] {
+    for adaptive in [None, Some(AdaptiveSettings { threshold: 0.05, max_depth: 2 })] {
         let mut desc = poisoned();
         desc.settings.adaptive = adaptive;
         let (film_1, stats_1) = render_desc(&desc, 1);

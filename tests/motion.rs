@@ -158,7 +158,7 @@ fn time_samples_cost_nothing_where_nothing_moves() {
 fn adaptive_lattice_points_carry_their_share_of_the_time_samples() {
     let (w, h) = (32, 32);
     let mut desc = flat_scene(BALL, w, h, 1, ", shutter: (0.0, 1.0)");
-    desc.settings.adaptive = Some(scene::AdaptiveDesc { threshold: 0.05, max_depth: 3 });
+    desc.settings.adaptive = Some(scene::AdaptiveSettings { threshold: 0.05, max_depth: 3 });
     let (one_time, _) = blurred(&desc, THROWN, 2);
     desc.camera.time.samples = 4;
     let (four, stats) = blurred(&desc, THROWN, 1);
@@ -303,7 +303,7 @@ fn a_shutter_out_of_order_is_refused_with_its_rule() {
 #[test]
 fn adaptive_supersampling_blurs_too_and_keeps_its_bits_on_any_thread_count() {
     let mut desc = flat_scene(BALL, 32, 32, 1, ", shutter: (0.0, 1.0)");
-    desc.settings.adaptive = Some(scene::AdaptiveDesc { threshold: 0.05, max_depth: 3 });
+    desc.settings.adaptive = Some(scene::AdaptiveSettings { threshold: 0.05, max_depth: 3 });
     let script = THROWN;
     let (one, stats) = blurred(&desc, script, 1);
     let (two, _) = blurred(&desc, script, 2);

@@ -5,7 +5,7 @@
 
 use penumbra::film::metrics::rmse;
 use penumbra::film::{AovSet, Film};
-use penumbra::scene::{self, NoiseDesc, SceneDesc};
+use penumbra::scene::{self, NoiseSettings, SceneDesc};
 use penumbra::trace::{render, render_with_aovs, NoiseStop, RenderStats};
 use penumbra::world::SceneWorld;
 
@@ -29,7 +29,7 @@ fn penumbra_scene(aa: u32, light: u32) -> SceneDesc {
     scene::parse_scene(&text, "penumbra.ron").expect("test scene is valid")
 }
 
-fn with_noise(mut desc: SceneDesc, noise: NoiseDesc) -> SceneDesc {
+fn with_noise(mut desc: SceneDesc, noise: NoiseSettings) -> SceneDesc {
     desc.settings.noise = Some(noise);
     desc
 }
@@ -51,7 +51,8 @@ fn a_flat_image_takes_the_minimum_everywhere_in_one_round() {
     let mut desc = penumbra_scene(4, 4);
     desc.objects.clear();
     desc.settings.background = glam::Vec3::new(0.3, 0.4, 0.5);
-    let (film, stats) = rendered(&with_noise(desc, NoiseDesc { min_samples: 8, ..NoiseDesc::default() }), 2);
+    let (film, stats) =
+        rendered(&with_noise(desc, NoiseSettings { min_samples: 8, ..NoiseSettings::default() }), 2);
     let n = &stats.noise;
     assert_eq!((n.rounds, n.batch, n.samples_min, n.samples_max), (1, 4, 8, 8));
     assert_eq!((n.stopped_by, n.estimated_rmse, n.pixels_above_target), (NoiseStop::Target, 0.0, 0));
@@ -61,7 +62,8 @@ fn a_flat_image_takes_the_minimum_everywhere_in_one_round() {
 
 #[test]
 fn samples_gather_in_the_penumbra() {
-    let desc = with_noise(penumbra_scene(1, 4), NoiseDesc { target_error: 0.01, ..NoiseDesc::default() });
+    let desc =
+        with_noise(penumbra_scene(1, 4), NoiseSettings { target_error: 0.01, ..NoiseSettings::default() });
     let mut world: SceneWorld = scene::spawn_world(&desc);
     let snapshot = world.update();
     let wanted = AovSet { cost: true, ..AovSet::default() };
@@ -93,7 +95,8 @@ fn the_estimated_error_tracks_the_true_error_and_a_lower_target_costs_more() {
     let reference = rendered(&penumbra_scene(64, 1024), 2).0;
     let mut last: Option<(f64, u64)> = None;
     for target in [0.04, 0.02, 0.01] {
-        let noise = NoiseDesc { target_error: target, min_samples: 4, max_samples: 4096, time_limit: None };
+        let noise =
+            NoiseSettings { target_error: target, min_samples: 4, max_samples: 4096, time_limit: None };
         let (film, stats) = rendered(&with_noise(penumbra_scene(1, 4), noise), 2);
         let truth = rmse(&film, &reference).unwrap();
         let estimate = stats.noise.estimated_rmse;
@@ -115,20 +118,21 @@ fn the_estimated_error_tracks_the_true_error_and_a_lower_target_costs_more() {
 
 #[test]
 fn a_time_limit_stops_after_a_complete_round() {
-    let noise = NoiseDesc { target_error: 0.0, time_limit: Some(1e-9), ..NoiseDesc::default() };
+    let noise = NoiseSettings { target_error: 0.0, time_limit: Some(1e-9), ..NoiseSettings::default() };
     let (film, stats) = rendered(&with_noise(penumbra_scene(1, 4), noise), 2);
     assert_eq!((stats.noise.rounds, stats.noise.stopped_by), (1, NoiseStop::TimeLimit));
     assert_eq!((stats.noise.samples_min, stats.noise.samples_max), (16, 16), "round 0 always completes");
     assert!(film.pixels.iter().all(|c| c.is_finite()));
     // Without a limit and a target of 0, every pixel goes to the maximum.
-    let noise = NoiseDesc { target_error: 0.0, max_samples: 64, ..NoiseDesc::default() };
+    let noise = NoiseSettings { target_error: 0.0, max_samples: 64, ..NoiseSettings::default() };
     let (_, stats) = rendered(&with_noise(penumbra_scene(1, 4), noise), 2);
     assert_eq!((stats.noise.samples_min, stats.noise.stopped_by), (64, NoiseStop::MaxSamples));
 }
 
 #[test]
 fn noise_driven_images_are_the_same_bits_on_one_and_two_threads() {
-    let desc = with_noise(penumbra_scene(2, 4), NoiseDesc { target_error: 0.01, ..NoiseDesc::default() });
+    let desc =
+        with_noise(penumbra_scene(2, 4), NoiseSettings { target_error: 0.01, ..NoiseSettings::default() });
     let (one, a) = rendered(&desc, 1);
     let (two, b) = rendered(&desc, 2);
     assert_eq!(bits(&one), bits(&two));

@@ -582,15 +582,15 @@ fn every_effect_field_is_read_as_written() {
 #[test]
 fn every_effect_field_has_its_default_when_absent() {
     use glam::Vec3;
-    use penumbra::scene::{AaDesc, AdaptiveDesc, Filter, LightDesc, Pattern, SamplingDesc};
+    use penumbra::scene::{AdaptiveSettings, AntiAliasing, Filter, LightDesc, Pattern, Sampling};
     let scene = parse_scene(BASE, "base.ron").expect("valid");
     let camera = &scene.camera;
     assert_eq!((camera.aperture, camera.focus_distance, camera.focus_on), (0.0, None, None));
-    assert_eq!(camera.lens, SamplingDesc { samples: 1, pattern: Pattern::Jittered });
+    assert_eq!(camera.lens, Sampling { samples: 1, pattern: Pattern::Jittered });
     let settings = &scene.settings;
-    assert_eq!(settings.aa, AaDesc { samples: 1, pattern: Pattern::Jittered, filter: Filter::Box });
+    assert_eq!(settings.aa, AntiAliasing { samples: 1, pattern: Pattern::Jittered, filter: Filter::Box });
     assert_eq!(settings.adaptive, None);
-    assert_eq!(settings.glossy, SamplingDesc { samples: 8, pattern: Pattern::Jittered });
+    assert_eq!(settings.glossy, Sampling { samples: 8, pattern: Pattern::Jittered });
     // A partly written struct takes the missing fields from its own defaults.
     let text = effects(11, "(samples: 4, pattern: Grid)", "(pattern: Grid)");
     let text = edit_text(&text, 14, "(samples: 16, pattern: Random, filter: Tent)", "(samples: 4)");
@@ -601,11 +601,14 @@ fn every_effect_field_has_its_default_when_absent() {
     let text =
         edit_text(&text, 21, ", colour: (1.0, 1.0, 1.0), intensity: 1.0, samples: 8, pattern: Grid", "");
     let scene = parse_scene(&text, "partial.ron").unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(scene.camera.lens, SamplingDesc { samples: 1, pattern: Pattern::Grid });
-    assert_eq!(scene.settings.aa, AaDesc { samples: 4, pattern: Pattern::Jittered, filter: Filter::Box });
-    assert_eq!(scene.settings.adaptive, Some(AdaptiveDesc { threshold: 0.05, max_depth: 3 }));
+    assert_eq!(scene.camera.lens, Sampling { samples: 1, pattern: Pattern::Grid });
+    assert_eq!(
+        scene.settings.aa,
+        AntiAliasing { samples: 4, pattern: Pattern::Jittered, filter: Filter::Box }
+    );
+    assert_eq!(scene.settings.adaptive, Some(AdaptiveSettings { threshold: 0.05, max_depth: 3 }));
     // `glossy` keeps its own default of 8 samples when only the pattern is given.
-    assert_eq!(scene.settings.glossy, SamplingDesc { samples: 8, pattern: Pattern::Grid });
+    assert_eq!(scene.settings.glossy, Sampling { samples: 8, pattern: Pattern::Grid });
     for light in &scene.lights {
         let (LightDesc::Rect { colour, intensity, samples, pattern, .. }
         | LightDesc::Disk { colour, intensity, samples, pattern, .. }) = light
@@ -986,7 +989,7 @@ fn tonemapped(tonemap: &str) -> String {
 #[test]
 fn tonemap_parses_with_defaults_and_every_operator() {
     let scene = parse_scene(EFFECTS, "bad.ron").unwrap();
-    assert_eq!(scene.settings.tonemap, penumbra::scene::ToneMapDesc::default());
+    assert_eq!(scene.settings.tonemap, penumbra::scene::ToneMapping::default());
     for (text, op) in
         [("Clamp", ToneOperator::Clamp), ("Reinhard", ToneOperator::Reinhard), ("Aces", ToneOperator::Aces)]
     {

@@ -262,7 +262,7 @@ fn every_property_reads_back_what_was_written() {
     let snapshot = world.update();
     let settings = world.world().render_settings();
     assert_eq!((settings.width, settings.height, settings.seed, settings.max_depth), (64, 48, 99, 4));
-    assert_eq!((settings.aa.sampling.samples, settings.lens.samples, settings.glossy.samples), (3, 5, 7));
+    assert_eq!((settings.aa.samples, settings.lens.samples, settings.glossy.samples), (3, 5, 7));
     assert_eq!(settings.time.samples, 6);
     assert!(settings.adaptive.is_none());
     let camera = snapshot.camera;
@@ -470,7 +470,7 @@ fn sweeps_declare_parameter_sets_and_apply_them_by_name_or_through_apply() {
     world.apply(&sets[3], 3).unwrap();
     world.update();
     let settings = world.world().render_settings();
-    assert_eq!(settings.aa.sampling.samples, 4, "`samples` is the settings property");
+    assert_eq!(settings.aa.samples, 4, "`samples` is the settings property");
     assert_eq!(world.update().camera.aperture, 0.2);
 
     let custom = "fn sweep() { [#{ look: 3 }] }\nfn apply(p) { settings.lens_samples = p.look; }\n";

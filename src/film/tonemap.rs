@@ -20,14 +20,16 @@ pub enum ToneOperator {
     Aces,
 }
 
-/// Exposure and operator.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Exposure and operator: the scene file's `settings.tonemap`, and what the film applies.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct ToneMapping {
-    /// The operator.
+    /// `Clamp`, `Reinhard` or `Aces` (filmic). Default `Clamp`.
     pub operator: ToneOperator,
-    /// Exposure in stops: linear values are multiplied by `2^exposure` first.
+    /// Exposure in stops (linear values × 2^exposure first), in [-30, 30] in a scene file.
+    /// Default 0.
     pub exposure: f32,
-    /// White point of `Reinhard` (the exposed value that maps to 1), > 0.
+    /// White point of `Reinhard` (the exposed value that maps to 1), > 0. Default 4.
     pub white: f32,
 }
 

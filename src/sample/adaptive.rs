@@ -21,12 +21,16 @@ use glam::{Vec2, Vec3};
 use std::collections::HashMap;
 use std::ops::{Add, AddAssign};
 
-/// Settings of adaptive supersampling.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Settings of adaptive supersampling (the scene file's `settings.adaptive`, which replaces
+/// `aa` when given).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct AdaptiveSettings {
-    /// A square splits when two of its corners differ by more than this in some channel.
+    /// A square splits when two of its corners differ by more than this in some channel;
+    /// finite, ≥ 0. Default 0.05.
     pub threshold: f32,
-    /// Deepest subdivision level: the finest squares are `2^-max_depth` pixels wide.
+    /// Deepest subdivision level: the finest squares are `2^-max_depth` pixels wide; 1..=6 in
+    /// a scene file. Default 3.
     pub max_depth: u32,
 }
 
@@ -59,7 +63,7 @@ impl AdaptiveSettings {
 
 impl Default for AdaptiveSettings {
     fn default() -> Self {
-        Self { threshold: 0.1, max_depth: 3 }
+        Self { threshold: 0.05, max_depth: 3 }
     }
 }
 

@@ -21,19 +21,25 @@
 
 use glam::{DVec3, Vec3};
 
-/// Settings of noise-driven adaptive sampling.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Settings of noise-driven adaptive sampling: the scene file's `settings.noise` (every pixel
+/// takes batches of the scene's `aa` set, with lens and time samples, in rounds until its
+/// estimated error on the display is below `target_error`; not together with `adaptive`).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct NoiseSettings {
-    /// A pixel stops when the standard error of its mean, on the display, is at most this (in
-    /// display units, 0..1). 0 samples every pixel to `max_samples` (or the time limit).
+    /// A pixel stops when the standard error of its mean, on the display (sRGB, 0..1; 0.01 is
+    /// about 2.5/255), is at most this; finite, in [0, 1]. 0 samples every pixel to
+    /// `max_samples` (or the time limit). Default 0.01.
     pub target_error: f32,
-    /// Camera samples every pixel takes first (rounded up to whole batches, at least two).
+    /// Camera samples every pixel takes first, 1..=65536 (rounded up to whole batches, at
+    /// least two). Default 16.
     pub min_samples: u32,
-    /// Camera samples no pixel exceeds (rounded up to whole batches).
+    /// Camera samples no pixel exceeds, `min_samples..=65536` (rounded up to whole batches).
+    /// Default 1024.
     pub max_samples: u32,
     /// Stop after the last round that fits in this many seconds of tracing (the image is
-    /// always complete); `None`: no limit.
-    pub time_limit: Option<f64>,
+    /// always complete), finite and > 0; `None`: no limit. Default none.
+    pub time_limit: Option<f32>,
 }
 
 impl Default for NoiseSettings {

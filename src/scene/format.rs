@@ -56,7 +56,9 @@ pub use object::*;
 pub use crate::trace::light::Falloff;
 
 pub use crate::film::{ToneMapping, ToneOperator};
+pub use crate::sample::{AdaptiveSettings, NoiseSettings};
 pub use crate::sample::{Filter, Pattern};
+pub use crate::trace::{AntiAliasing, Sampling};
 
 /// A whole scene file.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
@@ -120,7 +122,7 @@ pub struct CameraDesc {
     pub focus_on: Option<DVec3>,
     /// Lens samples per camera sample, used only when `aperture` > 0. Default 1, `Jittered`.
     #[serde(default)]
-    pub lens: SamplingDesc,
+    pub lens: Sampling,
     /// Motion blur: when the shutter is open, `(open, close)` as fractions of the frame
     /// interval, `0 <= open <= close <= 1` (`(0.0, 0.5)` is a film camera's 180° shutter).
     /// With a shutter, `animate` runs the script at both ends of the interval and whatever
@@ -133,91 +135,7 @@ pub struct CameraDesc {
     /// the shutter interval with the pixel's other samples. Default 1, `Jittered` (`Grid` puts
     /// each time at its stratum's middle, `Random` anywhere in the interval).
     #[serde(default)]
-    pub time: SamplingDesc,
-}
-
-/// How many points a distribution effect takes over its domain, and how they are placed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct SamplingDesc {
-    /// Number of samples, 1..=4096. Default 1 (`settings.glossy`: 8).
-    pub samples: u32,
-    /// Placement of the samples. Default `Jittered`.
-    pub pattern: Pattern,
-}
-
-impl Default for SamplingDesc {
-    fn default() -> Self {
-        Self { samples: 1, pattern: Pattern::Jittered }
-    }
-}
-
-/// Anti-aliasing: camera samples per pixel and how they are placed and weighted.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct AaDesc {
-    /// Camera samples per pixel, 1..=4096. Default 1.
-    pub samples: u32,
-    /// Placement of the samples over the pixel footprint. Default `Jittered`.
-    pub pattern: Pattern,
-    /// Reconstruction filter. Default `Box`.
-    pub filter: Filter,
-}
-
-impl Default for AaDesc {
-    fn default() -> Self {
-        Self { samples: 1, pattern: Pattern::Jittered, filter: Filter::Box }
-    }
-}
-
-/// Adaptive supersampling by recursive corner subdivision; when on it replaces `aa`.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct AdaptiveDesc {
-    /// A square is subdivided while its corner colours differ by more than this; finite, ≥ 0.
-    /// Default 0.05.
-    pub threshold: f32,
-    /// Deepest subdivision level, 1..=6. Default 3.
-    pub max_depth: u32,
-}
-
-impl Default for AdaptiveDesc {
-    fn default() -> Self {
-        Self { threshold: 0.05, max_depth: 3 }
-    }
-}
-
-/// Noise-driven adaptive sampling: every pixel takes batches of camera samples (each batch the
-/// scene's `aa` set, with lens and time samples) in rounds until its estimated error on the
-/// display is below `target_error`. Not together with `adaptive`.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct NoiseDesc {
-    /// A pixel stops once the standard error of its mean, in display units (sRGB, 0..1; 0.01
-    /// is about 2.5/255), is at most this; finite, in [0, 1]. 0 samples to `max_samples`.
-    /// Default 0.01.
-    pub target_error: f32,
-    /// Camera samples every pixel takes first, 1..=65536 (rounded up to whole batches, at
-    /// least two). Default 16.
-    pub min_samples: u32,
-    /// Camera samples no pixel exceeds, `min_samples..=65536` (rounded up to whole batches).
-    /// Default 1024.
-    pub max_samples: u32,
-    /// Seconds of tracing after which no further round starts (the image is always
-    /// complete), finite and > 0. Default none.
-    pub time_limit: Option<f32>,
-}
-
-impl Default for NoiseDesc {
-    fn default() -> Self {
-        let s = crate::sample::NoiseSettings::default();
-        Self {
-            target_error: s.target_error,
-            min_samples: s.min_samples,
-            max_samples: s.max_samples,
-            time_limit: None,
-        }
-    }
+    pub time: Sampling,
 }
 
 /// Render settings stored with the scene.
@@ -235,42 +153,23 @@ pub struct SettingsDesc {
     /// Seed of every random choice the renderer makes. Default 0.
     pub seed: u64,
     /// Anti-aliasing. Default 1 sample per pixel, `Jittered`, `Box`.
-    pub aa: AaDesc,
+    pub aa: AntiAliasing,
     /// Adaptive supersampling; replaces `aa` when given. Default none (off).
-    pub adaptive: Option<AdaptiveDesc>,
+    pub adaptive: Option<AdaptiveSettings>,
     /// Noise-driven adaptive sampling in batches of the `aa` set; not with `adaptive`.
     /// Default none (off).
-    pub noise: Option<NoiseDesc>,
+    pub noise: Option<NoiseSettings>,
     /// Rays per glossy reflection or blurry refraction at the first bounce (deeper bounces
     /// use one). Default 8, `Jittered`; a `glossy: (...)` without `samples` also gets 8.
     #[serde(deserialize_with = "glossy_sampling")]
-    pub glossy: SamplingDesc,
+    pub glossy: Sampling,
     /// Secondary rays (reflection, refraction, glossy, blurry) one camera sample may trace;
     /// a ray tree that would grow past it is cut and counted in the statistics. In
     /// 1..=16777216. Default 1024.
     pub max_secondary_rays: u32,
     /// How 8- and 16-bit outputs map linear light to display values (EXR stays linear).
     /// Default: clamp, exposure 0.
-    pub tonemap: ToneMapDesc,
-}
-
-/// Tone mapping of 8- and 16-bit outputs.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct ToneMapDesc {
-    /// `Clamp`, `Reinhard` or `Aces` (filmic). Default `Clamp`.
-    pub operator: ToneOperator,
-    /// Exposure in stops (linear values × 2^exposure), in [-30, 30]. Default 0.
-    pub exposure: f32,
-    /// White point of `Reinhard`: the exposed value that maps to 1, > 0. Default 4.
-    pub white: f32,
-}
-
-impl Default for ToneMapDesc {
-    fn default() -> Self {
-        let t = ToneMapping::default();
-        Self { operator: t.operator, exposure: t.exposure, white: t.white }
-    }
+    pub tonemap: ToneMapping,
 }
 
 impl Default for SettingsDesc {
@@ -281,12 +180,12 @@ impl Default for SettingsDesc {
             background: Vec3::ZERO,
             ambient: Vec3::splat(0.1),
             seed: 0,
-            aa: AaDesc::default(),
+            aa: AntiAliasing::default(),
             adaptive: None,
             noise: None,
-            glossy: SamplingDesc { samples: DEFAULT_GLOSSY_SAMPLES, pattern: Pattern::Jittered },
+            glossy: Sampling { samples: DEFAULT_GLOSSY_SAMPLES, pattern: Pattern::Jittered },
             max_secondary_rays: crate::trace::DEFAULT_MAX_SECONDARY_RAYS,
-            tonemap: ToneMapDesc::default(),
+            tonemap: ToneMapping::default(),
         }
     }
 }
@@ -306,9 +205,9 @@ impl CameraDesc {
             aperture: 0.0,
             focus_distance: None,
             focus_on: None,
-            lens: SamplingDesc::default(),
+            lens: Sampling::default(),
             shutter: None,
-            time: SamplingDesc::default(),
+            time: Sampling::default(),
         }
     }
 }
@@ -335,9 +234,9 @@ fn default_light_samples() -> u32 {
 /// Default `settings.glossy.samples`.
 const DEFAULT_GLOSSY_SAMPLES: u32 = 8;
 
-/// `settings.glossy` as written: like [`SamplingDesc`], but an omitted `samples` is 8, not 1.
+/// `settings.glossy` as written: like [`Sampling`], but an omitted `samples` is 8, not 1.
 #[derive(Deserialize)]
-#[serde(rename = "SamplingDesc", default, deny_unknown_fields)]
+#[serde(rename = "Sampling", default, deny_unknown_fields)]
 struct GlossySampling {
     samples: u32,
     pattern: Pattern,
@@ -380,7 +279,7 @@ fn grey_or_colour<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Vec3, D:
     deserializer.deserialize_any(GreyOrColour)
 }
 
-fn glossy_sampling<'de, D: Deserializer<'de>>(deserializer: D) -> Result<SamplingDesc, D::Error> {
+fn glossy_sampling<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Sampling, D::Error> {
     let GlossySampling { samples, pattern } = GlossySampling::deserialize(deserializer)?;
-    Ok(SamplingDesc { samples, pattern })
+    Ok(Sampling { samples, pattern })
 }

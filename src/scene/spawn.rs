@@ -4,15 +4,14 @@
 
 use bevy_ecs::prelude::World;
 
-use super::format::{LightDesc, SamplingDesc, SceneDesc, ShapeDesc};
+use super::format::{LightDesc, SceneDesc, ShapeDesc};
 use super::mesh::MeshLibrary;
 use crate::accel::DEFAULT_LAMBDA;
 use crate::geom;
 use crate::math::Vec3;
-use crate::sample::adaptive::AdaptiveSettings;
 use crate::sample::warp::orthonormal_basis;
 use crate::store::{MaterialId, PrimitiveStore};
-use crate::trace::{self, AntiAliasing, Sampling};
+use crate::trace;
 use crate::world::components::{Light, MaterialRef, Name, Shape, Transform, Visible, WorldAabb, WorldShape};
 use crate::world::resources::{CameraRig, Focus, FrameOrigin, Materials, MeshTable, SceneSettings, Textures};
 use crate::world::SceneWorld;
@@ -49,26 +48,15 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
         seed: s.seed,
         frame: 0,
         lambda: DEFAULT_LAMBDA,
-        aa: AntiAliasing {
-            sampling: Sampling { samples: s.aa.samples, pattern: s.aa.pattern },
-            filter: s.aa.filter,
-        },
-        adaptive: s
-            .adaptive
-            .as_ref()
-            .map(|a| AdaptiveSettings { threshold: a.threshold, max_depth: a.max_depth }),
-        noise: s.noise.as_ref().map(|n| crate::sample::NoiseSettings {
-            target_error: n.target_error,
-            min_samples: n.min_samples,
-            max_samples: n.max_samples,
-            time_limit: n.time_limit.map(f64::from),
-        }),
-        lens: sampling(&c.lens),
-        glossy: sampling(&s.glossy),
+        aa: s.aa,
+        adaptive: s.adaptive,
+        noise: s.noise,
+        lens: c.lens,
+        glossy: s.glossy,
         max_secondary_rays: s.max_secondary_rays,
         // Validated on load: `0 <= open <= close <= 1`.
         shutter: c.shutter.and_then(|(open, close)| crate::camera::Shutter::new(open, close).ok()),
-        time: sampling(&c.time),
+        time: c.time,
     });
 
     let mut blocks = super::mesh_materials::MaterialBlocks::default();
@@ -145,10 +133,6 @@ fn shape_of(desc: &ShapeDesc) -> geom::Shape {
         ShapeDesc::Polygon { vertices } => geom::Shape::Polygon { vertices: vertices.clone() },
         ShapeDesc::Cuboid { min, max } => geom::Shape::Cuboid { min: *min, max: *max },
     }
-}
-
-fn sampling(desc: &SamplingDesc) -> Sampling {
-    Sampling { samples: desc.samples, pattern: desc.pattern }
 }
 
 /// The World's light of a light description: radiance is colour × intensity, directions unit

@@ -14,8 +14,8 @@ use glam::{DVec3, Vec3};
 
 use super::error::shown;
 use super::fields::{self, dvec, vec, AXES};
-use super::format::{AdaptiveDesc, CameraDesc, LightDesc, MaterialDesc, ObjectDesc, SceneDesc};
-use super::format::{NoiseDesc, SamplingDesc, SettingsDesc, ShapeDesc, ToneMapDesc, TransformDesc};
+use super::format::{AdaptiveSettings, CameraDesc, LightDesc, MaterialDesc, ObjectDesc, SceneDesc};
+use super::format::{NoiseSettings, Sampling, SettingsDesc, ShapeDesc, ToneMapping, TransformDesc};
 use super::locate::FieldPath;
 pub use super::rules::*;
 
@@ -163,7 +163,7 @@ fn settings(path: &FieldPath, settings: &SettingsDesc) -> Check {
     tonemap(&path.clone().field("tonemap"), &settings.tonemap)
 }
 
-fn tonemap(path: &FieldPath, t: &ToneMapDesc) -> Check {
+fn tonemap(path: &FieldPath, t: &ToneMapping) -> Check {
     finite(path, "exposure", t.exposure)?;
     if t.exposure.abs() > MAX_EXPOSURE {
         return fail(
@@ -175,12 +175,12 @@ fn tonemap(path: &FieldPath, t: &ToneMapDesc) -> Check {
     check(path, "white", fields::positive(t.white))
 }
 
-fn adaptive(path: &FieldPath, adaptive: &AdaptiveDesc) -> Check {
+fn adaptive(path: &FieldPath, adaptive: &AdaptiveSettings) -> Check {
     check(path, "threshold", fields::non_negative(adaptive.threshold))?;
     check(path, "max_depth", fields::adaptive_depth(adaptive.max_depth.into()))
 }
 
-fn noise(path: &FieldPath, noise: &NoiseDesc) -> Check {
+fn noise(path: &FieldPath, noise: &NoiseSettings) -> Check {
     finite(path, "target_error", noise.target_error)?;
     if !(0.0..=1.0).contains(&noise.target_error) {
         let rule =
@@ -207,7 +207,7 @@ fn noise(path: &FieldPath, noise: &NoiseDesc) -> Check {
     Ok(())
 }
 
-fn sampling(path: &FieldPath, sampling: &SamplingDesc) -> Check {
+fn sampling(path: &FieldPath, sampling: &Sampling) -> Check {
     check(path, "samples", fields::sample_count(sampling.samples.into()))
 }
 

@@ -55,7 +55,7 @@ pub(super) struct CameraSampler<'a, S: PrimitiveStore> {
 
 impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
     pub(super) fn new(scene: &'a TraceScene<S>, settings: &'a RenderSettings) -> Self {
-        let n_aa = settings.aa.sampling.samples.max(1);
+        let n_aa = settings.aa.samples.max(1);
         let n_lens = if scene.camera.has_lens() { settings.lens.samples.max(1) } else { 1 };
         let n_time = if scene.motion.is_some() { settings.time.samples.max(1) } else { 1 };
         // The scene's camera-samples rule keeps the product within 32 bits.
@@ -172,7 +172,7 @@ pub(super) fn pixel_offset(
     if n == 1 && !batched {
         return Vec2::splat(0.5);
     }
-    let p = square_point_in(aa.sampling.pattern, strata, i, u);
+    let p = square_point_in(aa.pattern, strata, i, u);
     match aa.filter {
         Filter::Box => p,
         Filter::Tent => Vec2::new(0.5 + tent(p.x), 0.5 + tent(p.y)),

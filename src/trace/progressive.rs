@@ -128,7 +128,7 @@ pub(super) fn render_noise<S: PrimitiveStore>(
             // The next round's time, at this round's seconds per camera sample.
             let per_sample = round_seconds / traced.max(1) as f64;
             let next = per_sample * (wanted * u64::from(batch)) as f64;
-            if started.elapsed().as_secs_f64() + next > limit {
+            if started.elapsed().as_secs_f64() + next > f64::from(limit) {
                 break NoiseStop::TimeLimit;
             }
         }

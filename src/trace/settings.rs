@@ -1,18 +1,22 @@
 //! How a snapshot is rendered: image size, depth, seed, and the sample counts and patterns of
 //! every distribution effect. The renderer ([`super::render`]) and the integrator read it.
 
+use serde::Deserialize;
+
 use crate::sample::{AdaptiveSettings, Filter, Pattern};
 
 /// Default of [`RenderSettings::max_secondary_rays`]: the secondary rays one camera sample may
 /// trace. The shipped scenes use at most a few hundred (see `docs/scene-format.md`).
 pub const DEFAULT_MAX_SECONDARY_RAYS: u32 = 1024;
 
-/// A sample count and the pattern that places the samples.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// A sample count and the pattern that places the samples: the scene file's `lens`, `time`
+/// and `glossy` fields, and the renderer's setting for each effect.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct Sampling {
-    /// Number of samples (at least 1).
+    /// Number of samples, 1..=4096. Default 1 (`settings.glossy` in a scene file: 8).
     pub samples: u32,
-    /// Placement.
+    /// Placement of the samples. Default `Jittered`.
     pub pattern: Pattern,
 }
 
@@ -22,13 +26,30 @@ impl Default for Sampling {
     }
 }
 
-/// Anti-aliasing: samples per pixel, their pattern and the filter footprint.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// Anti-aliasing: camera samples per pixel, their pattern and the filter footprint (the scene
+/// file's `settings.aa`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct AntiAliasing {
-    /// Samples per pixel and their placement.
-    pub sampling: Sampling,
-    /// Footprint: the pixel (box) or a tent two pixels wide.
+    /// Camera samples per pixel, 1..=4096. Default 1.
+    pub samples: u32,
+    /// Placement of the samples over the pixel footprint. Default `Jittered`.
+    pub pattern: Pattern,
+    /// Reconstruction filter: the pixel (`Box`) or a tent two pixels wide. Default `Box`.
     pub filter: Filter,
+}
+
+impl Default for AntiAliasing {
+    fn default() -> Self {
+        Self { samples: 1, pattern: Pattern::Jittered, filter: Filter::Box }
+    }
+}
+
+impl AntiAliasing {
+    /// The sample count and pattern, as every other effect's [`Sampling`].
+    pub fn sampling(&self) -> Sampling {
+        Sampling { samples: self.samples, pattern: self.pattern }
+    }
 }
 
 /// How to render a snapshot.

@@ -10,7 +10,7 @@ use clap::Args;
 
 use penumbra::film::{AovSet, OutputFormat, ToneMapping, ToneOperator};
 use penumbra::sample::Pattern;
-use penumbra::scene::{self, AdaptiveDesc, LightDesc, SceneDesc};
+use penumbra::scene::{self, AdaptiveSettings, LightDesc, SceneDesc};
 use penumbra::simd::SimdLevel;
 use penumbra::trace::{RenderSettings, RenderStats};
 
@@ -301,7 +301,7 @@ fn apply_effects(desc: &mut SceneDesc, args: &FrameArgs) {
         }
     }
     if let Some((threshold, max_depth)) = args.adaptive {
-        desc.settings.adaptive = Some(AdaptiveDesc { threshold, max_depth });
+        desc.settings.adaptive = Some(AdaptiveSettings { threshold, max_depth });
         desc.settings.noise = None;
     }
     if args.no_adaptive {

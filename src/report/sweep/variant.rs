@@ -3,7 +3,7 @@
 
 use super::set_area_samples;
 use crate::sample::Pattern;
-use crate::scene::{AdaptiveDesc, NoiseDesc, SceneDesc};
+use crate::scene::{AdaptiveSettings, NoiseSettings, SceneDesc};
 
 /// One setting of one axis.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -87,7 +87,7 @@ impl Variant {
                 d.settings.noise = None;
             }
             Setting::Adaptive(threshold, max_depth) => {
-                d.settings.adaptive = Some(AdaptiveDesc { threshold, max_depth });
+                d.settings.adaptive = Some(AdaptiveSettings { threshold, max_depth });
                 d.settings.noise = None;
             }
             Setting::AreaLight(n) => set_area_samples(&mut d, n),
@@ -98,7 +98,7 @@ impl Variant {
                 d.settings.adaptive = None;
                 d.settings.aa.samples = aa;
                 d.settings.noise =
-                    Some(NoiseDesc { target_error, min_samples, max_samples, time_limit: None });
+                    Some(NoiseSettings { target_error, min_samples, max_samples, time_limit: None });
             }
         }
         d

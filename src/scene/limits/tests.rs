@@ -98,7 +98,7 @@ fn camera_samples_must_fit_32_bits_and_blame_the_time_samples() {
         "{}",
         v.rule
     );
-    scene.settings.adaptive = Some(crate::scene::AdaptiveDesc { threshold: 0.1, max_depth: 3 });
+    scene.settings.adaptive = Some(crate::scene::AdaptiveSettings { threshold: 0.1, max_depth: 3 });
     assert_eq!(camera_samples_violation(&scene), None, "a lattice point takes only the times");
     scene.settings.adaptive = None;
     assert_eq!(check(&scene).unwrap_err().path.to_string(), "camera.time.samples");

@@ -8,7 +8,7 @@ use glam::DVec3;
 use super::convert::{error, ScriptResult};
 use super::scene::camera_desc;
 use crate::scene::error::number as num;
-use crate::scene::format::{AaDesc, AdaptiveDesc, LightDesc, SamplingDesc, SceneDesc, SettingsDesc};
+use crate::scene::format::{AdaptiveSettings, AntiAliasing, LightDesc, Sampling, SceneDesc, SettingsDesc};
 use crate::scene::limits::{
     camera_samples_violation, extent_excess, extent_rule, lens_violation, radiance_violation, Extent,
     Placement,
@@ -73,18 +73,18 @@ pub fn radiance(state: &ScriptState, what: &str) -> ScriptResult<()> {
         .collect();
     let s = &state.settings;
     let mut camera = camera_desc(state);
-    camera.lens = SamplingDesc { samples: s.lens_samples, ..Default::default() };
+    camera.lens = Sampling { samples: s.lens_samples, ..Default::default() };
     let scene = SceneDesc {
         camera,
         settings: SettingsDesc {
             max_depth: s.max_depth,
             background: s.background,
             ambient: s.ambient,
-            aa: AaDesc { samples: s.samples, ..Default::default() },
+            aa: AntiAliasing { samples: s.samples, ..Default::default() },
             adaptive: s
                 .adaptive
-                .map(|(threshold, max_depth)| AdaptiveDesc { threshold: threshold as f32, max_depth }),
-            glossy: SamplingDesc { samples: s.glossy_samples, ..Default::default() },
+                .map(|(threshold, max_depth)| AdaptiveSettings { threshold: threshold as f32, max_depth }),
+            glossy: Sampling { samples: s.glossy_samples, ..Default::default() },
             ..Default::default()
         },
         materials: Vec::new(),

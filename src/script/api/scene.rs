@@ -15,7 +15,7 @@ use super::convert::{error, finite, vector, ScriptResult};
 use super::limits;
 use super::properties::unknown_name;
 use crate::scene::fields::{self, Rule};
-use crate::scene::format::{CameraDesc, SamplingDesc};
+use crate::scene::format::{CameraDesc, Sampling};
 use crate::script::state::{
     EntityKind, EntityState, FocusState, LightTerms, MaterialParams, ScriptState, SharedState,
 };
@@ -169,9 +169,9 @@ pub fn camera_desc(state: &ScriptState) -> CameraDesc {
             _ => None,
         },
         focus_on: None,
-        lens: SamplingDesc { samples: state.settings.lens_samples, ..Default::default() },
+        lens: Sampling { samples: state.settings.lens_samples, ..Default::default() },
         shutter: None,
-        time: SamplingDesc { samples: state.settings.time_samples, ..Default::default() },
+        time: Sampling { samples: state.settings.time_samples, ..Default::default() },
     }
 }
 

@@ -85,7 +85,7 @@ impl ScriptState {
             settings: SettingsState {
                 width: s.width,
                 height: s.height,
-                samples: s.aa.sampling.samples,
+                samples: s.aa.samples,
                 lens_samples: s.lens.samples,
                 time_samples: s.time.samples,
                 glossy_samples: s.glossy.samples,
@@ -209,7 +209,7 @@ pub fn apply_script_writes(
         let mut next = *settings;
         next.width = s.width;
         next.height = s.height;
-        next.aa.sampling.samples = s.samples;
+        next.aa.samples = s.samples;
         next.lens.samples = s.lens_samples;
         next.time.samples = s.time_samples;
         next.glossy.samples = s.glossy_samples;
