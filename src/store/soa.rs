@@ -14,7 +14,7 @@ use super::{
 };
 use super::{ObjectId, Stored};
 use crate::geom::{sphere, Placed};
-use crate::math::{Ray, RayPacket, Vec3};
+use crate::math::{Affine3A, Ray, RayPacket, Vec3};
 
 mod columns;
 mod triangles;
@@ -58,6 +58,17 @@ pub struct SoaStore {
     plane_material: Vec<MaterialId>,
     // Shared mesh layouts.
     meshes: Vec<Arc<MeshEntry<SoaTriangles>>>,
+}
+
+impl SoaStore {
+    /// Bounded object `id`'s mesh and world-to-object map, when it is a mesh instance.
+    pub(crate) fn instance(&self, id: u32) -> Option<(&MeshEntry<SoaTriangles>, Affine3A)> {
+        let o = id as usize;
+        (self.kind[o] == Kind::Instance).then(|| {
+            let i = self.first[o] as usize;
+            (&*self.meshes[self.instance_mesh[i] as usize], self.instance_to_object.get(i))
+        })
+    }
 }
 
 impl PrimitiveStore for SoaStore {
@@ -284,18 +295,6 @@ impl PrimitiveStore for SoaStore {
                 packet::cuboid_occluded(&self.box_to_object.get(i), min, max, packet, live, occluded, cost)
             }
         }
-    }
-
-    fn intersect_bounded_brute(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
-        let o = id as usize;
-        if self.kind[o] == Kind::Instance {
-            let i = self.first[o] as usize;
-            let mesh = &self.meshes[self.instance_mesh[i] as usize];
-            let local = mesh::object_ray(&self.instance_to_object.get(i), ray);
-            return mesh::intersect_brute(mesh, &local, t_min, t_max)
-                .map(|(k, h)| Hit::triangle(ObjectId::bounded(id), k, &h));
-        }
-        self.intersect_bounded(id, ray, t_min, t_max, &mut super::NoTally)
     }
 
     #[inline]
