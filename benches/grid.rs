@@ -25,7 +25,8 @@ use criterion::{BenchmarkId, Criterion, Throughput};
 use penumbra::camera::Camera;
 use penumbra::math::{Ray, Vec3, SHADOW_EPSILON};
 use penumbra::store::{PlacedObject, PrimitiveStore};
-use penumbra::trace::{closest_hit, closest_hit_brute, Light, Material, SceneTables, TraceScene};
+use penumbra::testing::closest_hit_brute;
+use penumbra::trace::{closest_hit, Light, Material, SceneTables, TraceScene};
 
 use harness::rays::median;
 

@@ -27,7 +27,8 @@ use penumbra::accel::{DEFAULT_LAMBDA, MESH_LAMBDA};
 use penumbra::geom::mesh::{icosphere, MeshData};
 use penumbra::math::Vec3;
 use penumbra::store::{MeshAsset, PrimitiveStore};
-use penumbra::trace::{closest_hit, closest_hit_brute, TraceScene};
+use penumbra::testing::closest_hit_brute;
+use penumbra::trace::{closest_hit, TraceScene};
 
 const W: u32 = 640;
 const H: u32 = 480;

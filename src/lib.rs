@@ -72,6 +72,7 @@ pub mod scene;
 pub mod script;
 pub mod simd;
 pub mod store;
+pub mod testing;
 pub mod texture;
 pub mod trace;
 pub mod world;

@@ -13,8 +13,9 @@ use penumbra::accel::UniformGrid;
 use penumbra::geom::Placed;
 use penumbra::math::{Aabb, Ray, Vec3};
 use penumbra::store::{Hit, NoTally, PlacedObject, PrimitiveStore};
+use penumbra::testing::closest_hit_brute;
 use penumbra::trace::transmittance;
-use penumbra::trace::{closest_hit, closest_hit_brute, Material, TraceScene};
+use penumbra::trace::{closest_hit, Material, TraceScene};
 use rand::rngs::StdRng;
 use rand::RngExt;
 

@@ -5,6 +5,7 @@
 
 use crate::common;
 use penumbra::store::ObjectId;
+use penumbra::testing::{closest_hit_brute, BruteForce};
 use penumbra::trace::aov::object_index;
 
 use std::sync::Arc;
@@ -17,7 +18,7 @@ use penumbra::geom::mesh::icosphere;
 use penumbra::geom::{cuboid, plane, sphere, triangle, MeshId, Placed, Shape};
 use penumbra::math::{reflect, refract, Affine3A, Quat, Ray, Vec3};
 use penumbra::store::{AosStore, Hit, MaterialId, MeshAsset, PlacedObject, PrimitiveStore, SoaStore};
-use penumbra::trace::{closest_hit, closest_hit_brute, Material, SceneTables, TraceScene};
+use penumbra::trace::{closest_hit, Material, SceneTables, TraceScene};
 
 /// What a row expects of the first hit.
 #[derive(Debug, Clone, Copy)]
@@ -645,7 +646,7 @@ fn box_contacts() -> (Vec<(String, Ray, f32)>, Vec<Named>) {
     (touch, outside)
 }
 
-fn check_box_contacts<S: PrimitiveStore>(layout: &str) {
+fn check_box_contacts<S: BruteForce>(layout: &str) {
     let scene = closed_box::<S>();
     let (touch, outside) = box_contacts();
     assert_eq!(touch.len(), 3 * 2 * 2 * 7 + 8 * 3 * 2);

@@ -15,9 +15,8 @@ use penumbra::geom::{MeshId, Shape};
 use penumbra::math::{Affine3A, Quat, Ray, Vec3};
 use penumbra::scene::{self, spawn_world};
 use penumbra::store::{AosStore, MaterialId, MeshAsset, PlacedObject, PrimitiveStore, SoaStore};
-use penumbra::trace::{
-    closest_hit, closest_hit_brute, render, Light, Material, RenderSettings, SceneTables, TraceScene,
-};
+use penumbra::testing::closest_hit_brute;
+use penumbra::trace::{closest_hit, render, Light, Material, RenderSettings, SceneTables, TraceScene};
 use penumbra::world::components::Transform;
 use penumbra::world::SceneWorld;
 use rand::RngExt;

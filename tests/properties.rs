@@ -7,7 +7,8 @@ use crate::common;
 use common::strategies;
 use penumbra::math::Ray;
 use penumbra::store::{MaterialId, PlacedObject, PrimitiveStore};
-use penumbra::trace::{closest_hit, closest_hit_brute, facing_normals, TraceScene};
+use penumbra::testing::closest_hit_brute;
+use penumbra::trace::{closest_hit, facing_normals, TraceScene};
 use proptest::prelude::*;
 
 proptest! {

@@ -94,6 +94,16 @@ pub struct AosStore {
     meshes: Vec<Arc<MeshEntry<AosTriangles>>>,
 }
 
+impl AosStore {
+    /// Bounded object `id`'s mesh and world-to-object map, when it is a mesh instance.
+    pub(crate) fn instance(&self, id: u32) -> Option<(&MeshEntry<AosTriangles>, Affine3A)> {
+        match self.objects[id as usize].shape {
+            AosShape::Instance { to_object, mesh } => Some((&*self.meshes[mesh as usize], to_object)),
+            _ => None,
+        }
+    }
+}
+
 impl PrimitiveStore for AosStore {
     type Triangles = AosTriangles;
 
@@ -250,15 +260,6 @@ impl PrimitiveStore for AosStore {
                 packet::cuboid_occluded(to_object, *min, *max, packet, live, occluded, cost)
             }
         }
-    }
-
-    fn intersect_bounded_brute(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
-        if let AosShape::Instance { to_object, mesh } = &self.objects[id as usize].shape {
-            let local = mesh::object_ray(to_object, ray);
-            return mesh::intersect_brute(&self.meshes[*mesh as usize], &local, t_min, t_max)
-                .map(|(k, h)| Hit::triangle(ObjectId::bounded(id), k, &h));
-        }
-        self.intersect_bounded(id, ray, t_min, t_max, &mut super::NoTally)
     }
 
     #[inline]

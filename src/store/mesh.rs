@@ -247,8 +247,9 @@ pub fn occluded<L: TriangleLayout, T: Tally>(
     )
 }
 
-/// Nearest triangle hit by testing every triangle: the reference for the mesh grid.
-pub fn intersect_brute<L: TriangleLayout>(
+/// Nearest triangle hit by testing every triangle: the reference for the mesh grid
+/// ([`crate::testing::BruteForce`]).
+pub(crate) fn intersect_brute<L: TriangleLayout>(
     mesh: &MeshEntry<L>,
     ray: &Ray,
     t_min: f32,

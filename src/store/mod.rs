@@ -242,9 +242,6 @@ pub trait PrimitiveStore: Send + Sync + Sized + std::fmt::Debug + 'static {
     ) {
         packet::occluded_lane_by_lane(self, id, packet, live, occluded, cost)
     }
-    /// Nearest hit with bounded object `id` testing every triangle of a mesh (no mesh grid):
-    /// the reference the two-level grid is checked against.
-    fn intersect_bounded_brute(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit>;
     /// Number of unbounded objects.
     fn unbounded_count(&self) -> u32;
     /// Unbounded object `i`, a plane `normal · p = offset`: `(normal, offset)`.

@@ -13,10 +13,14 @@ use super::{
     Hit, MaterialId, PlacedObject, PrimitiveStore, SurfacePoint, Tally, TraversalCost, TriangleLayout,
 };
 use super::{ObjectId, Stored};
-use crate::geom::mesh::MeshData;
-use crate::geom::triangle::{self, TriangleHit, WatertightRay};
 use crate::geom::{sphere, Placed};
 use crate::math::{Affine3A, Ray, RayPacket, Vec3};
+
+mod columns;
+mod triangles;
+
+use columns::{Affines, Xyz};
+pub use triangles::SoaTriangles;
 
 /// Kind of a bounded object, selecting which arrays its index refers to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -26,109 +30,6 @@ enum Kind {
     Triangles,
     Cuboid,
     Instance,
-}
-
-/// Three coordinate arrays.
-#[derive(Debug, Clone, Default, PartialEq)]
-struct Xyz {
-    x: Vec<f32>,
-    y: Vec<f32>,
-    z: Vec<f32>,
-}
-
-impl Xyz {
-    #[inline]
-    fn push(&mut self, v: Vec3) {
-        self.x.push(v.x);
-        self.y.push(v.y);
-        self.z.push(v.z);
-    }
-
-    #[inline]
-    fn get(&self, i: usize) -> Vec3 {
-        Vec3::new(self.x[i], self.y[i], self.z[i])
-    }
-
-    fn bytes(&self) -> usize {
-        3 * self.x.len() * std::mem::size_of::<f32>()
-    }
-}
-
-/// Four column arrays of affine maps.
-#[derive(Debug, Clone, Default, PartialEq)]
-struct Affines {
-    x: Xyz,
-    y: Xyz,
-    z: Xyz,
-    w: Xyz,
-}
-
-impl Affines {
-    fn push(&mut self, m: &Affine3A) {
-        self.x.push(m.matrix3.x_axis.into());
-        self.y.push(m.matrix3.y_axis.into());
-        self.z.push(m.matrix3.z_axis.into());
-        self.w.push(m.translation.into());
-    }
-
-    #[inline]
-    fn get(&self, i: usize) -> Affine3A {
-        Affine3A::from_cols(
-            self.x.get(i).into(),
-            self.y.get(i).into(),
-            self.z.get(i).into(),
-            self.w.get(i).into(),
-        )
-    }
-
-    fn bytes(&self) -> usize {
-        self.x.bytes() + self.y.bytes() + self.z.bytes() + self.w.bytes()
-    }
-}
-
-/// Triangles as nine coordinate arrays.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct SoaTriangles {
-    v0: Xyz,
-    v1: Xyz,
-    v2: Xyz,
-}
-
-impl TriangleLayout for SoaTriangles {
-    fn from_mesh(mesh: &MeshData) -> Self {
-        Self::from_vertices(mesh.indices.iter().map(|f| f.map(|k| mesh.positions[k as usize])))
-    }
-
-    fn from_vertices(tris: impl IntoIterator<Item = [Vec3; 3]>) -> Self {
-        let mut s = Self::default();
-        for [a, b, c] in tris {
-            s.v0.push(a);
-            s.v1.push(b);
-            s.v2.push(c);
-        }
-        s
-    }
-
-    #[inline]
-    fn len(&self) -> u32 {
-        self.v0.x.len() as u32
-    }
-
-    #[inline(always)]
-    fn vertices(&self, i: u32) -> [Vec3; 3] {
-        let i = i as usize;
-        [self.v0.get(i), self.v1.get(i), self.v2.get(i)]
-    }
-
-    #[inline]
-    fn intersect(&self, i: u32, ray: &WatertightRay, t_min: f32, t_max: f32) -> Option<TriangleHit> {
-        let i = i as usize;
-        triangle::intersect(self.v0.get(i), self.v1.get(i), self.v2.get(i), ray, t_min, t_max)
-    }
-
-    fn memory_bytes(&self) -> usize {
-        self.v0.bytes() + self.v1.bytes() + self.v2.bytes()
-    }
 }
 
 /// Structure-of-arrays primitive store.
@@ -157,6 +58,17 @@ pub struct SoaStore {
     plane_material: Vec<MaterialId>,
     // Shared mesh layouts.
     meshes: Vec<Arc<MeshEntry<SoaTriangles>>>,
+}
+
+impl SoaStore {
+    /// Bounded object `id`'s mesh and world-to-object map, when it is a mesh instance.
+    pub(crate) fn instance(&self, id: u32) -> Option<(&MeshEntry<SoaTriangles>, Affine3A)> {
+        let o = id as usize;
+        (self.kind[o] == Kind::Instance).then(|| {
+            let i = self.first[o] as usize;
+            (&*self.meshes[self.instance_mesh[i] as usize], self.instance_to_object.get(i))
+        })
+    }
 }
 
 impl PrimitiveStore for SoaStore {
@@ -383,18 +295,6 @@ impl PrimitiveStore for SoaStore {
                 packet::cuboid_occluded(&self.box_to_object.get(i), min, max, packet, live, occluded, cost)
             }
         }
-    }
-
-    fn intersect_bounded_brute(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
-        let o = id as usize;
-        if self.kind[o] == Kind::Instance {
-            let i = self.first[o] as usize;
-            let mesh = &self.meshes[self.instance_mesh[i] as usize];
-            let local = mesh::object_ray(&self.instance_to_object.get(i), ray);
-            return mesh::intersect_brute(mesh, &local, t_min, t_max)
-                .map(|(k, h)| Hit::triangle(ObjectId::bounded(id), k, &h));
-        }
-        self.intersect_bounded(id, ray, t_min, t_max, &mut super::NoTally)
     }
 
     #[inline]

@@ -47,6 +47,4 @@ pub use stats::{
     StageTimes,
 };
 pub use tiles::{tile_count, TILE};
-pub use visibility::{
-    closest_hit, closest_hit_brute, closest_hit_tallied, transmittance, transmittance_tallied,
-};
+pub use visibility::{closest_hit, closest_hit_tallied, transmittance, transmittance_tallied};

@@ -261,8 +261,9 @@ impl SceneMotion {
     }
 
     /// [`Self::nearest`] by testing every moving object: the reference the grid is checked
-    /// against.
-    pub fn nearest_brute<L: TriangleLayout>(
+    /// against in this module's tests.
+    #[cfg(test)]
+    fn nearest_brute<L: TriangleLayout>(
         &self,
         meshes: &[Arc<MeshEntry<L>>],
         ray: &Ray,

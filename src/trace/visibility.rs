@@ -1,7 +1,8 @@
 //! Visibility queries, apart from shading: the nearest hit along a ray (planes, then the
 //! grid front to back, then whatever moves) and a shadow ray's transmittance. Both have a
-//! brute-force or counting twin for tests and statistics; the packet kernels
-//! ([`super::packet`]) are checked against these lane by lane.
+//! counting twin for statistics, and the nearest hit a brute-force reference for tests
+//! ([`crate::testing::closest_hit_brute`]); the packet kernels ([`super::packet`]) are checked
+//! against these lane by lane.
 
 use smallvec::SmallVec;
 
@@ -77,24 +78,6 @@ pub(crate) fn grid_hit<S: PrimitiveStore, T: Tally>(
     walk::nearest(&scene.grid, ray, t_min, t_max, tally, |id, bound, tally| {
         store.intersect_bounded(id, ray, t_min, bound, tally).map(|h| (h.t, h))
     })
-}
-
-/// Nearest hit by testing every object: the reference the grid is checked against.
-pub fn closest_hit_brute<S: PrimitiveStore>(
-    scene: &TraceScene<S>,
-    ray: &Ray,
-    t_min: f32,
-    t_max: f32,
-) -> Option<Hit> {
-    let mut nearest = Nearest::new(t_max);
-    let store = &scene.store;
-    for i in 0..store.unbounded_count() {
-        nearest.offer(store.intersect_unbounded(i, ray, t_min, nearest.t));
-    }
-    for id in 0..store.bounded_count() {
-        nearest.offer(store.intersect_bounded_brute(id, ray, t_min, nearest.t));
-    }
-    nearest.hit
 }
 
 /// The nearest hit so far and the ray parameter that bounds further searches.

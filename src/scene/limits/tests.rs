@@ -1,7 +1,11 @@
 //! Tests of `src/scene/limits.rs`.
 
+use glam::{DVec3, Vec3};
+
 use super::*;
 use crate::scene::default_scene;
+use crate::scene::format::{LightDesc, ObjectDesc, ShapeDesc, TransformDesc};
+use crate::scene::mesh::MeshLibrary;
 
 fn sphere(radius: f32, scale: f32) -> ObjectDesc {
     ObjectDesc {

@@ -1,0 +1,65 @@
+//! The camera's combined rules: the lens and the focus point within the coordinate limit, and
+//! a pixel's camera samples within [`MAX_CAMERA_SAMPLES`].
+
+use glam::DVec3;
+
+use super::{beyond, violation, MAX_CAMERA_SAMPLES};
+use crate::scene::error::number as num;
+use crate::scene::format::{CameraDesc, SceneDesc};
+use crate::scene::rules::MAX_COORDINATE;
+use crate::scene::validate::Violation;
+
+/// The lens rule for a camera whose fields are each valid; the path is relative to the camera
+/// (`aperture`, `focus_distance`).
+pub fn lens_violation(camera: &CameraDesc) -> Option<Violation> {
+    let position = camera.position;
+    let aperture = f64::from(camera.aperture);
+    if aperture > 0.0 {
+        let reach = position.abs() + DVec3::splat(aperture);
+        if let Some((axis, c)) = beyond(reach) {
+            let rule = format!(
+                "the lens must lie within ±{MAX_COORDINATE:e} (`position` ± `aperture` on every axis), \
+                 but |position.{axis}| + aperture = {}; got aperture {}",
+                num(c),
+                num(camera.aperture.into())
+            );
+            return Some(violation("aperture", rule));
+        }
+    }
+    if let Some(distance) = camera.focus_distance {
+        let forward = (camera.look_at - position).normalize_or_zero();
+        let focus = position + forward * f64::from(distance);
+        if let Some((axis, c)) = beyond(focus) {
+            let rule = format!(
+                "the focus point `position + focus_distance × view direction` must lie within \
+                 ±{MAX_COORDINATE:e}, but its {axis} is {}; got focus_distance {}",
+                num(c),
+                num(distance.into())
+            );
+            return Some(violation("focus_distance", rule));
+        }
+    }
+    None
+}
+
+/// The camera-samples rule: `settings.aa.samples` × `camera.lens.samples` (with an aperture)
+/// × `camera.time.samples` ≤ [`MAX_CAMERA_SAMPLES`], reported at `camera.time.samples` (the
+/// only factor that can push the product past it). Adaptive renders trace at most
+/// `camera.time.samples` rays per lattice point, so only the time samples count there.
+pub fn camera_samples_violation(scene: &SceneDesc) -> Option<Violation> {
+    let camera = &scene.camera;
+    let lens = if camera.aperture > 0.0 { u64::from(camera.lens.samples) } else { 1 };
+    let per_position = match scene.settings.adaptive {
+        Some(_) => 1,
+        None => u64::from(scene.settings.aa.samples) * lens,
+    };
+    let n = per_position * u64::from(camera.time.samples);
+    (n > MAX_CAMERA_SAMPLES).then(|| {
+        let rule = format!(
+            "a pixel takes settings.aa.samples {} × camera.lens.samples {lens} (with camera.aperture > 0) \
+             × camera.time.samples {} = {n} camera samples, more than {MAX_CAMERA_SAMPLES}; lower one of them",
+            scene.settings.aa.samples, camera.time.samples
+        );
+        violation("camera.time.samples", rule)
+    })
+}
