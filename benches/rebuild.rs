@@ -73,7 +73,7 @@ fn move_one(world: &mut SceneWorld, bunny: bevy_ecs::entity::Entity, step: &mut 
 
 /// What a move would cost if the mesh's grid had to be rebuilt too.
 fn full(desc: &SceneDesc, world: &SceneWorld) -> usize {
-    let data = desc.meshes.assets()[0].data.clone();
+    let data = desc.assets.meshes.assets()[0].data.clone();
     let asset = MeshAsset::new("bench", data, MESH_LAMBDA);
     let index = world.world().resource::<penumbra::world::resources::GridIndex>();
     let bounds: Vec<_> = index
@@ -109,7 +109,7 @@ fn main() {
             let rebuilds = world.grid_rebuilds() - before;
             let clock = world.stage_clock();
             let full = median(5, || full(&desc, &world)).as_secs_f64();
-            let asset = &desc.meshes.assets()[0];
+            let asset = &desc.assets.meshes.assets()[0];
             println!(
                 "\nrebuild: {INSTANCES} instances of a {}-triangle mesh; one moves per frame ({rebuilds} top-level rebuilds in 21 frames, 0 mesh-grid rebuilds)",
                 asset.data.triangle_count()

@@ -313,8 +313,8 @@ fn a_bad_obj_is_reported_with_the_scene_position_and_the_obj_file_and_line() {
 fn objects_naming_the_same_mesh_share_one_asset() {
     let desc = scene::load_scene("scenes/bunny.ron".as_ref()).unwrap();
     // Three bunnies, two ways of shading them: two assets.
-    assert_eq!(desc.meshes.len(), 2);
-    assert_eq!(desc.meshes.assets()[0].data.triangle_count(), 4500);
+    assert_eq!(desc.assets.meshes.len(), 2);
+    assert_eq!(desc.assets.meshes.assets()[0].data.triangle_count(), 4500);
 }
 
 #[test]

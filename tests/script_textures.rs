@@ -157,7 +157,7 @@ fn the_handle_reads_back_what_was_written_and_lists_the_textures() {
     let bands = textures.table[1].transform();
     assert_eq!((bands.offset.x, bands.offset.y), (1.1, 1.2));
     assert_eq!((bands.scale.x, bands.scale.y, bands.rotate_deg), (2.0, 2.0, 12.5));
-    assert_eq!(*textures.table[0].transform(), *desc().texture_table[0].transform());
+    assert_eq!(*textures.table[0].transform(), *desc().assets.texture_table[0].transform());
 }
 
 #[test]
@@ -236,7 +236,7 @@ fn a_frame_that_changes_no_transform_keeps_the_same_table() {
         assert!(Arc::ptr_eq(&snapshot.textures, &table), "frame {n}: the snapshot reads the World's table");
         tables.push(table);
     }
-    assert!(Arc::ptr_eq(&tables[0], &desc.texture_table), "frame 0 keeps the scene's table");
+    assert!(Arc::ptr_eq(&tables[0], &desc.assets.texture_table), "frame 0 keeps the scene's table");
     assert!(Arc::ptr_eq(&tables[1], &tables[0]), "frame 1 writes the same values");
     assert!(!Arc::ptr_eq(&tables[2], &tables[1]), "frame 2 moves the checker");
     assert_eq!(tables[2][0].transform().offset.x, 0.5);
@@ -268,7 +268,10 @@ fn under_a_shutter_the_texture_is_at_shutter_open() {
     for n in 0..3 {
         let snapshot = animation.step_to(n).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(snapshot.textures[0].transform().offset.x, n as f32, "frame {n}");
-        assert_eq!(snapshot.textures[1], shuttered.texture_table[1], "frame {n}: bands as the file has it");
+        assert_eq!(
+            snapshot.textures[1], shuttered.assets.texture_table[1],
+            "frame {n}: bands as the file has it"
+        );
     }
     let film = render(&animation.step_to(3).unwrap(), &animation.world().world().render_settings()).0;
     assert_eq!(film.pixels, frames(&shuttered, SCROLL, 4)[3].pixels);

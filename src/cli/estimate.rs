@@ -55,12 +55,12 @@ impl MemoryEstimate {
             OutputFormat::Png8 => 12 + 2 * 3 + 1 + aov_png_bytes_per_pixel(aovs),
             OutputFormat::Png16 => 12 + 2 * 6 + 1 + aov_png_bytes_per_pixel(aovs),
         };
-        let triangles: u64 = desc.meshes.assets().iter().map(|a| a.data.triangle_count() as u64).sum();
-        let meshes: u64 = desc.meshes.assets().iter().map(|a| a.memory_bytes() as u64).sum();
+        let triangles: u64 = desc.assets.meshes.assets().iter().map(|a| a.data.triangle_count() as u64).sum();
+        let meshes: u64 = desc.assets.meshes.assets().iter().map(|a| a.memory_bytes() as u64).sum();
         let objects = desc.objects.len() as u64;
         // Decoded images, each once however many textures share it.
         let mut rasters: Vec<&std::sync::Arc<penumbra::texture::Raster>> = Vec::new();
-        for t in desc.texture_table.iter() {
+        for t in desc.assets.texture_table.iter() {
             if let penumbra::texture::Texture::Image { raster, .. } = t {
                 if !rasters.iter().any(|seen| std::sync::Arc::ptr_eq(seen, raster)) {
                     rasters.push(raster);

@@ -127,7 +127,7 @@ pub fn run_named(args: &RenderArgs, replay: &[String], scene_name: Option<&str>)
         Layout::Aos => render_frame::<AosStore>(&desc, &args.frame, wanted, &on_tile),
     });
     bar.finish_and_clear();
-    stats.times.mesh_grid_build = desc.meshes.grid_build_seconds();
+    stats.times.mesh_grid_build = desc.assets.meshes.grid_build_seconds();
     stats.times.load = (load - stats.times.mesh_grid_build).max(0.0);
 
     args.frame.check_film(&stats, "")?;

@@ -26,9 +26,9 @@
 use std::path::{Path, PathBuf};
 
 use super::format::{
-    CameraDesc, LightDesc, MaterialDesc, ObjectDesc, SceneDesc, SettingsDesc, ShapeDesc, TransformDesc,
+    CameraDesc, LightDesc, MaterialDesc, ObjectDesc, SceneFile, SettingsDesc, ShapeDesc, TransformDesc,
 };
-use super::{finish_scene, SceneError};
+use super::{finish_scene, SceneDesc, SceneError};
 use crate::math::{DVec3, Vec3};
 
 /// What errors of a built scene name as their origin (they carry no line or column).
@@ -37,23 +37,20 @@ pub const BUILDER_ORIGIN: &str = "<SceneBuilder>";
 /// A scene put together in code; see the [module documentation](self).
 #[derive(Debug, Clone)]
 pub struct SceneBuilder {
-    scene: SceneDesc,
+    scene: SceneFile,
     base: PathBuf,
 }
 
 impl SceneBuilder {
     /// An empty scene seen through `camera`, with default settings.
     pub fn new(camera: CameraDesc) -> Self {
-        let scene = SceneDesc {
+        let scene = SceneFile {
             camera,
             settings: SettingsDesc::default(),
             materials: Vec::new(),
             textures: Vec::new(),
             lights: Vec::new(),
             objects: Vec::new(),
-            meshes: Default::default(),
-            texture_table: Default::default(),
-            library_textures: Vec::new(),
         };
         Self { scene, base: PathBuf::from(".") }
     }
@@ -188,7 +185,7 @@ mod tests {
             .mesh("bunny_res3.obj", "white", TransformDesc::default())
             .build()
             .unwrap();
-        assert_eq!(scene.meshes.len(), 1);
+        assert_eq!(scene.assets.meshes.len(), 1);
         let missing = SceneBuilder::new(camera())
             .material(MaterialDesc::new("white", [0.8, 0.8, 0.8]))
             .mesh("no/such.obj", "white", TransformDesc::default())

@@ -6,9 +6,12 @@
 //! Rules that span several objects (a pixel's radiance sum, a lens beyond the world's limit)
 //! live in [`super::limits`].
 
+use std::fmt;
+
 use glam::{DVec3, Vec3};
 
 use super::error::number;
+use super::locate::FieldPath;
 use super::rules::{
     coordinate_rule, shininess_rule, DEGENERATE_TOLERANCE, MAX_ADAPTIVE_DEPTH, MAX_COORDINATE, MAX_DEPTH,
     MAX_IMAGE_SIZE, MAX_SAMPLES, MAX_SECONDARY_RAYS, MAX_SHININESS,
@@ -236,6 +239,54 @@ pub(super) fn vec(value: Vec3) -> String {
 /// A 64-bit vector as RON writes it.
 pub(super) fn dvec(value: DVec3) -> String {
     format!("({}, {}, {})", value.x, value.y, value.z)
+}
+
+// Broken rules under their field paths -----------------------------------------------------
+
+/// The first rule a scene breaks: which field, and what is wrong with it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Violation {
+    /// The offending field, e.g. `objects[2].shape.radius`.
+    pub path: FieldPath,
+    /// What is wrong and what is allowed, e.g. `must be > 0, got -1`.
+    pub rule: String,
+}
+
+impl fmt::Display for Violation {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "field `{}`: {}", self.path, self.rule)
+    }
+}
+
+impl std::error::Error for Violation {}
+
+/// A field's check: `Err` holds the first rule broken, under the field's path.
+pub type Check = Result<(), Violation>;
+
+/// A field name or a list index under a path.
+pub(super) trait Child {
+    fn under(self, path: &FieldPath) -> FieldPath;
+}
+
+impl Child for &str {
+    fn under(self, path: &FieldPath) -> FieldPath {
+        path.clone().field(self)
+    }
+}
+
+impl Child for usize {
+    fn under(self, path: &FieldPath) -> FieldPath {
+        path.clone().index(self)
+    }
+}
+
+pub(super) fn fail(path: &FieldPath, child: impl Child, rule: String) -> Check {
+    Err(Violation { path: child.under(path), rule })
+}
+
+/// A field's value rule under the field's path.
+pub(super) fn check(path: &FieldPath, child: impl Child, rule: Rule) -> Check {
+    rule.map_err(|rule| Violation { path: child.under(path), rule })
 }
 
 #[cfg(test)]

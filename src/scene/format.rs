@@ -60,10 +60,11 @@ pub use crate::sample::{AdaptiveSettings, NoiseSettings};
 pub use crate::sample::{Filter, Pattern};
 pub use crate::trace::{AntiAliasing, Sampling};
 
-/// A whole scene file.
+/// A whole scene file, as written: what [`super::SceneDesc`] holds beside the assets it
+/// names.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(rename = "Scene", deny_unknown_fields)]
-pub struct SceneDesc {
+pub struct SceneFile {
     /// The pinhole camera.
     pub camera: CameraDesc,
     /// Render settings; every field has a default.
@@ -79,17 +80,6 @@ pub struct SceneDesc {
     pub lights: Vec<LightDesc>,
     /// Renderable objects.
     pub objects: Vec<ObjectDesc>,
-    /// The meshes the objects name, loaded and gridded by `load_scene` (not part of the file).
-    #[serde(skip)]
-    pub meshes: super::mesh::MeshLibrary,
-    /// The textures of `textures`, in order, then the images of the meshes' `.mtl` libraries,
-    /// loaded by `load_scene` (not part of the file).
-    #[serde(skip)]
-    pub texture_table: std::sync::Arc<[crate::texture::Texture]>,
-    /// Where in `texture_table` each `.mtl` library image went, by its path (not part of the
-    /// file).
-    #[serde(skip)]
-    pub library_textures: Vec<(std::path::PathBuf, crate::texture::TextureId)>,
 }
 
 /// The camera: where it is, where it looks and the image it makes.

@@ -248,7 +248,7 @@ pub fn asset_names(desc: &SceneDesc, base: &Path) -> Vec<(InputRole, String)> {
             names.push((role, name));
         }
     };
-    let assets = desc.meshes.assets();
+    let assets = desc.assets.meshes.assets();
     for m in assets.iter().flat_map(|a| &a.data.materials) {
         if !m.file.as_os_str().is_empty() {
             add(InputRole::Library, relative(&m.file));

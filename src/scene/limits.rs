@@ -21,8 +21,8 @@
 
 use glam::DVec3;
 
+use super::desc::SceneDesc;
 use super::error::SceneError;
-use super::format::SceneDesc;
 use super::locate::{position_of, FieldPath, Segment};
 use super::rules::MAX_COORDINATE;
 use super::validate::Violation;
@@ -73,7 +73,7 @@ pub fn check(scene: &SceneDesc) -> Result<(), Violation> {
         }
     }
     for (i, object) in scene.objects.iter().enumerate() {
-        if let Some(v) = object_violation(object, &scene.meshes) {
+        if let Some(v) = object_violation(object, &scene.assets.meshes) {
             return Err(under(&root.clone().field("objects").index(i), v));
         }
     }

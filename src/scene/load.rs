@@ -12,8 +12,9 @@ use std::path::Path;
 use ron::error::{Error as RonError, SpannedError};
 use ron::extensions::Extensions;
 
+use super::desc::{SceneAssets, SceneDesc};
 use super::error::SceneError;
-use super::format::SceneDesc;
+use super::format::SceneFile;
 use super::locate::{path_at, position_of, value_source, FieldPath, Segment};
 use super::mesh::load_meshes;
 use super::validate::validate;
@@ -44,7 +45,7 @@ pub fn parse_scene(text: &str, origin: &str) -> Result<SceneDesc, SceneError> {
 pub fn parse_scene_at(text: &str, origin: &str, base: &Path) -> Result<SceneDesc, SceneError> {
     let scene = ron::Options::default()
         .with_default_extension(Extensions::IMPLICIT_SOME)
-        .from_str::<SceneDesc>(text)
+        .from_str::<SceneFile>(text)
         .map_err(|error| from_ron(text, origin, &error))?;
     finish_scene(scene, origin, base, text)
 }
@@ -53,16 +54,17 @@ pub fn parse_scene_at(text: &str, origin: &str, base: &Path) -> Result<SceneDesc
 /// relative to `base`, textures), the one path both scene files and [`super::SceneBuilder`]
 /// take; `text` is the source positions are looked up in (empty where there is none).
 pub(crate) fn finish_scene(
-    mut scene: SceneDesc,
+    file: SceneFile,
     origin: &str,
     base: &Path,
     text: &str,
 ) -> Result<SceneDesc, SceneError> {
-    validate(&scene).map_err(|violation| {
+    validate(&file).map_err(|violation| {
         let (line, col) = position_of(text, &violation.path).unwrap_or((1, 1));
         invalid(origin, (line, col), &violation.path, violation.rule)
     })?;
-    load_meshes(&mut scene, base, text, origin)?;
+    let meshes = load_meshes(&file, base, text, origin)?;
+    let mut scene = SceneDesc { file, assets: SceneAssets { meshes, ..SceneAssets::default() } };
     super::texture::load_textures(&mut scene, base, text, origin)?;
     super::limits::check_located(&scene, text, origin)?;
     Ok(scene)

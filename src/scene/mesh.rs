@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::error::SceneError;
-use super::format::SceneDesc;
+use super::format::SceneFile;
 use super::locate::{position_of, FieldPath};
 use super::obj::{load_obj, load_obj_with_materials};
 use crate::accel::MESH_LAMBDA;
@@ -110,14 +110,20 @@ impl MeshLibrary {
     }
 }
 
-/// Loads every mesh `scene` names, relative to `base` (the scene file's folder), into
-/// `scene.meshes`. `text` and `origin` are the scene's source and name, for error positions.
-pub fn load_meshes(scene: &mut SceneDesc, base: &Path, text: &str, origin: &str) -> Result<(), SceneError> {
+/// Loads every mesh `scene` names, relative to `base` (the scene file's folder). `text` and
+/// `origin` are the scene's source and name, for error positions.
+pub fn load_meshes(
+    scene: &SceneFile,
+    base: &Path,
+    text: &str,
+    origin: &str,
+) -> Result<MeshLibrary, SceneError> {
+    let mut meshes = MeshLibrary::default();
     for (i, object) in scene.objects.iter().enumerate() {
         let Some(key @ (file, smooth, from_file)) = object.shape.mesh_key() else {
             continue;
         };
-        if scene.meshes.get_key(key).is_some() {
+        if meshes.get_key(key).is_some() {
             continue;
         }
         let path = resolve(base, file);
@@ -142,9 +148,9 @@ pub fn load_meshes(scene: &mut SceneDesc, base: &Path, text: &str, origin: &str)
             }
         })?;
         let asset = MeshAsset::new(file, data, MESH_LAMBDA);
-        scene.meshes.insert_key(file, smooth, from_file, Arc::new(asset));
+        meshes.insert_key(file, smooth, from_file, Arc::new(asset));
     }
-    Ok(())
+    Ok(meshes)
 }
 
 /// `file` relative to `base`, unless absolute.

@@ -14,12 +14,13 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::error::shown;
-use super::format::{MaterialDesc, SceneDesc, DEFAULT_BUMP_DEPTH};
+use super::format::{SceneFile, DEFAULT_BUMP_DEPTH};
 use super::rules::MAX_SHININESS;
 use crate::geom::mesh::ObjMaterial;
 use crate::geom::MeshId;
 use crate::math::Vec3;
 use crate::store::MaterialId;
+use crate::store::MeshAsset;
 use crate::texture::{ColourSpace, Raster, Texture, TextureId, UvTransform, Wrap};
 use crate::trace::material::{Bump, Maps};
 use crate::trace::Material;
@@ -72,11 +73,15 @@ pub fn library_path(material: &ObjMaterial, map: &Path) -> PathBuf {
 }
 
 /// Appends the images the loaded meshes' library materials name (`map_Kd`, `map_bump`) to
-/// `scene.texture_table`, each file once (sRGB, repeating), and records where each went in
-/// `scene.library_textures`. Errors name the library, its line and the image.
-pub fn load_library_textures(scene: &mut SceneDesc, table: &mut Vec<Texture>) -> Result<(), String> {
+/// `table` (a scene's texture table), each file once (sRGB, repeating), and returns where each
+/// went, by its path. Errors name the library, its line and the image.
+pub fn load_library_textures(
+    meshes: &[Arc<MeshAsset>],
+    table: &mut Vec<Texture>,
+) -> Result<Vec<(PathBuf, TextureId)>, String> {
     let mut loaded: HashMap<PathBuf, TextureId> = HashMap::new();
-    for asset in scene.meshes.assets() {
+    let mut library_textures = Vec::new();
+    for asset in meshes {
         for m in &asset.data.materials {
             for map in [&m.map_kd, &m.map_bump].into_iter().flatten() {
                 let path = library_path(m, map);
@@ -97,11 +102,11 @@ pub fn load_library_textures(scene: &mut SceneDesc, table: &mut Vec<Texture>) ->
                     transform: UvTransform::default(),
                 });
                 loaded.insert(path.clone(), id);
-                scene.library_textures.push((path, id));
+                library_textures.push((path, id));
             }
         }
     }
-    Ok(())
+    Ok(library_textures)
 }
 
 /// The engine material of a library material, its images looked up in `textures` (from
@@ -151,8 +156,8 @@ impl MaterialBlocks {
         file: &str,
         materials: &[ObjMaterial],
         fallback: &str,
-        scene: &[MaterialDesc],
-        desc: &SceneDesc,
+        scene: &SceneFile,
+        library_textures: &[(PathBuf, TextureId)],
         table: &mut Vec<Material>,
         names: &mut Vec<String>,
     ) -> MaterialId {
@@ -161,12 +166,13 @@ impl MaterialBlocks {
             return id;
         }
         let first = MaterialId(table.len() as u32);
-        let named = |name: &str| scene.iter().find(|d| d.name == name).map(|d| d.material(&desc.textures));
+        let named =
+            |name: &str| scene.materials.iter().find(|d| d.name == name).map(|d| d.material(&scene.textures));
         for m in materials {
             let (material, name) = match m.name.as_str() {
                 "" => (named(fallback).unwrap_or_default(), format!("{file}: faces without usemtl")),
                 name => (
-                    named(name).unwrap_or_else(|| engine_material(m, &desc.library_textures)),
+                    named(name).unwrap_or_else(|| engine_material(m, library_textures)),
                     format!("{file}: {name}"),
                 ),
             };
@@ -250,8 +256,8 @@ mod tests {
             "t.obj",
             &library,
             &fallback,
-            &desc.materials,
-            &desc,
+            &desc.file,
+            &desc.assets.library_textures,
             &mut table,
             &mut names,
         );
@@ -270,8 +276,8 @@ mod tests {
             "t.obj",
             &library,
             &fallback,
-            &desc.materials,
-            &desc,
+            &desc.file,
+            &desc.assets.library_textures,
             &mut table,
             &mut names,
         );

@@ -20,6 +20,7 @@
 //!
 //! [`validate`]: validate::validate
 pub mod builder;
+pub mod desc;
 pub mod error;
 pub mod fields;
 pub mod format;
@@ -38,6 +39,7 @@ pub mod texture;
 pub mod validate;
 
 pub use builder::SceneBuilder;
+pub use desc::{SceneAssets, SceneDesc};
 pub use error::SceneError;
 pub use format::*;
 pub use load::{

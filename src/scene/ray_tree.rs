@@ -11,7 +11,7 @@
 //! tree at the budget (`trace::path::RayBudget`); these warnings say so before it
 //! starts, naming the material and the fields to change.
 
-use super::format::{MaterialDesc, SceneDesc};
+use super::format::{MaterialDesc, SceneFile};
 
 /// The most secondary rays one camera sample can trace when every ray it spawns hits a
 /// material with reflectance `kr` and transmittance `kt`: each path of `a` reflections and `b`
@@ -63,7 +63,7 @@ pub fn worst_case_rays(kr: f32, kt: f32, min_contribution: f32, max_depth: u32, 
 
 /// Camera samples per pixel the scene's settings give (adaptive corners count as one: each
 /// takes the whole pixel's share of an effect).
-fn camera_samples(desc: &SceneDesc) -> u32 {
+fn camera_samples(desc: &SceneFile) -> u32 {
     if desc.settings.adaptive.is_some() {
         return 1;
     }
@@ -85,7 +85,7 @@ fn camera_samples(desc: &SceneDesc) -> u32 {
 /// let warnings = ray_tree_warnings(&desc);
 /// assert!(warnings.iter().any(|w| w.contains("material `glass`") && w.contains("max_depth 64")));
 /// ```
-pub fn ray_tree_warnings(desc: &SceneDesc) -> Vec<String> {
+pub fn ray_tree_warnings(desc: &SceneFile) -> Vec<String> {
     let s = &desc.settings;
     let spp = camera_samples(desc);
     let used = |m: &MaterialDesc| desc.objects.iter().any(|o| o.material == m.name);

@@ -4,7 +4,8 @@
 
 use bevy_ecs::prelude::World;
 
-use super::format::{LightDesc, SceneDesc, ShapeDesc};
+use super::desc::SceneDesc;
+use super::format::{LightDesc, ShapeDesc};
 use super::mesh::MeshLibrary;
 use crate::accel::DEFAULT_LAMBDA;
 use crate::geom;
@@ -61,7 +62,7 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
 
     let mut blocks = super::mesh_materials::MaterialBlocks::default();
     for (i, object) in desc.objects.iter().enumerate() {
-        let Some(shape) = shape_in(&object.shape, &desc.meshes) else {
+        let Some(shape) = shape_in(&object.shape, &desc.assets.meshes) else {
             // Only a description that `load_scene` did not load can name an unloaded mesh.
             debug_assert!(false, "objects[{i}] names a mesh that was not loaded");
             continue;
@@ -76,10 +77,10 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
             (geom::Shape::Mesh { mesh, .. }, Some((file, _, true))) => blocks.block(
                 *mesh,
                 file,
-                &desc.meshes.assets()[mesh.0 as usize].data.materials,
+                &desc.assets.meshes.assets()[mesh.0 as usize].data.materials,
                 &object.material,
-                &desc.materials,
-                desc,
+                &desc.file,
+                &desc.assets.library_textures,
                 &mut materials.table,
                 &mut materials.names,
             ),
@@ -102,10 +103,10 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
     world.insert_resource(FrameOrigin(c.position));
     world.insert_resource(materials);
     world.insert_resource(Textures {
-        table: desc.texture_table.clone(),
+        table: desc.assets.texture_table.clone(),
         names: desc.textures.iter().map(|t| t.name.clone()).collect(),
     });
-    world.insert_resource(MeshTable(desc.meshes.assets()));
+    world.insert_resource(MeshTable(desc.assets.meshes.assets()));
     SceneWorld::new(world)
 }
 

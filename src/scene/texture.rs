@@ -14,10 +14,11 @@ use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Arc;
 
+use super::desc::SceneDesc;
 use super::error::{shown, SceneError};
-use super::format::{MaterialDesc, SceneDesc, TextureDesc, TextureKindDesc};
+use super::fields::{self, check, fail, Violation};
+use super::format::{MaterialDesc, SceneFile, TextureDesc, TextureKindDesc};
 use super::locate::{position_of, FieldPath};
-use super::validate::{fail, finite, non_negative_channels, Violation};
 use crate::texture::{Raster, Texture, UvTransform};
 
 /// Largest accepted number of noise octaves.
@@ -58,12 +59,12 @@ fn check_texture(path: &FieldPath, texture: &TextureDesc) -> Check {
         TextureKindDesc::Checker { a, b }
         | TextureKindDesc::Stripes { a, b }
         | TextureKindDesc::Gradient { a, b } => {
-            non_negative_channels(&variant, "a", *a)?;
-            non_negative_channels(&variant, "b", *b)?;
+            check(&variant, "a", fields::non_negative_channels(*a))?;
+            check(&variant, "b", fields::non_negative_channels(*b))?;
         }
         TextureKindDesc::Noise { a, b, octaves, .. } => {
-            non_negative_channels(&variant, "a", *a)?;
-            non_negative_channels(&variant, "b", *b)?;
+            check(&variant, "a", fields::non_negative_channels(*a))?;
+            check(&variant, "b", fields::non_negative_channels(*b))?;
             if !(1..=MAX_OCTAVES).contains(octaves) {
                 return fail(&variant, "octaves", format!("must be in 1..={MAX_OCTAVES}, got {octaves}"));
             }
@@ -81,7 +82,7 @@ fn check_texture(path: &FieldPath, texture: &TextureDesc) -> Check {
             format!("must be non-zero in every component, got ({}, {})", texture.scale.x, texture.scale.y),
         );
     }
-    finite(path, "rotate_deg", texture.rotate_deg)
+    check(path, "rotate_deg", fields::finite(texture.rotate_deg))
 }
 
 /// A material's texture names must name textures of the scene.
@@ -114,7 +115,7 @@ impl TextureDesc {
 }
 
 /// The image files the scene's textures name, in order of first mention, each once.
-pub fn texture_files(desc: &SceneDesc) -> Vec<String> {
+pub fn texture_files(desc: &SceneFile) -> Vec<String> {
     let mut files: Vec<String> = Vec::new();
     for t in &desc.textures {
         if let TextureKindDesc::Image { file, .. } = &t.kind {
@@ -126,7 +127,7 @@ pub fn texture_files(desc: &SceneDesc) -> Vec<String> {
     files
 }
 
-/// Builds `scene.texture_table`: procedural textures from their parameters, image textures
+/// Builds `scene.assets.texture_table`: procedural textures from their parameters, image textures
 /// decoded from their files (relative to `base`; one decode per file and colour space).
 /// Errors name the scene's `file` field and say why the image could not be used. Also checks
 /// that every mesh drawn with a textured material has texture coordinates.
@@ -167,14 +168,16 @@ pub fn load_textures(scene: &mut SceneDesc, base: &Path, text: &str, origin: &st
         };
         table.push(texture);
     }
-    super::mesh_materials::load_library_textures(scene, &mut table).map_err(|rule| {
-        let i = scene.objects.iter().position(|o| o.shape.mesh_key().is_some_and(|k| k.2)).unwrap_or(0);
-        located(
-            FieldPath::root().field("objects").index(i).field("shape").field("file"),
-            format!("cannot load mesh: {rule}"),
-        )
-    })?;
-    scene.texture_table = Arc::from(table);
+    let meshes = scene.assets.meshes.assets();
+    scene.assets.library_textures = super::mesh_materials::load_library_textures(&meshes, &mut table)
+        .map_err(|rule| {
+            let i = scene.objects.iter().position(|o| o.shape.mesh_key().is_some_and(|k| k.2)).unwrap_or(0);
+            located(
+                FieldPath::root().field("objects").index(i).field("shape").field("file"),
+                format!("cannot load mesh: {rule}"),
+            )
+        })?;
+    scene.assets.texture_table = Arc::from(table);
     check_mesh_uvs(scene).map_err(|v| located(v.path, v.rule))
 }
 
@@ -183,7 +186,7 @@ pub fn load_textures(scene: &mut SceneDesc, base: &Path, text: &str, origin: &st
 fn check_mesh_uvs(scene: &SceneDesc) -> Check {
     for (i, object) in scene.objects.iter().enumerate() {
         let Some(key @ (file, _, from_file)) = object.shape.mesh_key() else { continue };
-        let Some((_, asset)) = scene.meshes.get_key(key) else { continue };
+        let Some((_, asset)) = scene.assets.meshes.get_key(key) else { continue };
         if !asset.data.uvs.is_empty() {
             continue;
         }

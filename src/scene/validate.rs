@@ -8,35 +8,18 @@
 //! shape's own size, so a scene means the same at any scale.
 
 use std::collections::HashMap;
-use std::fmt;
 
 use glam::{DVec3, Vec3};
 
 use super::error::shown;
 use super::fields::{self, dvec, vec, AXES};
-use super::format::{AdaptiveSettings, CameraDesc, LightDesc, MaterialDesc, ObjectDesc, SceneDesc};
+use super::format::{AdaptiveSettings, CameraDesc, LightDesc, MaterialDesc, ObjectDesc, SceneFile};
 use super::format::{NoiseSettings, Sampling, SettingsDesc, ShapeDesc, ToneMapping, TransformDesc};
 use super::locate::FieldPath;
 pub use super::rules::*;
 
-/// The first rule a scene breaks: which field, and what is wrong with it.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Violation {
-    /// The offending field, e.g. `objects[2].shape.radius`.
-    pub path: FieldPath,
-    /// What is wrong and what is allowed, e.g. `must be > 0, got -1`.
-    pub rule: String,
-}
-
-impl fmt::Display for Violation {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "field `{}`: {}", self.path, self.rule)
-    }
-}
-
-impl std::error::Error for Violation {}
-
-type Check = Result<(), Violation>;
+pub use super::fields::Violation;
+use super::fields::{check, fail, Check, Child};
 
 /// Checks every rule of the scene format, returning the first violation in document order.
 ///
@@ -50,7 +33,7 @@ type Check = Result<(), Violation>;
 /// assert_eq!(violation.path.to_string(), "materials[1].ks");
 /// assert_eq!(violation.rule, "must be in [0, 1], got 1.2");
 /// ```
-pub fn validate(scene: &SceneDesc) -> Check {
+pub fn validate(scene: &SceneFile) -> Check {
     let root = FieldPath::root();
     camera(&root.clone().field("camera"), &scene.camera)?;
     settings(&root.clone().field("settings"), &scene.settings)?;
@@ -289,32 +272,6 @@ fn light(path: &FieldPath, light: &LightDesc) -> Check {
 
 // ---------------------------------------------------------------------------------------
 
-/// A field name or a list index under a path.
-pub(super) trait Child {
-    fn under(self, path: &FieldPath) -> FieldPath;
-}
-
-impl Child for &str {
-    fn under(self, path: &FieldPath) -> FieldPath {
-        path.clone().field(self)
-    }
-}
-
-impl Child for usize {
-    fn under(self, path: &FieldPath) -> FieldPath {
-        path.clone().index(self)
-    }
-}
-
-pub(super) fn fail(path: &FieldPath, child: impl Child, rule: String) -> Check {
-    Err(Violation { path: child.under(path), rule })
-}
-
-/// A field's value rule ([`fields`]) under the field's path.
-pub(super) fn check(path: &FieldPath, child: impl Child, rule: fields::Rule) -> Check {
-    rule.map_err(|rule| Violation { path: child.under(path), rule })
-}
-
 pub(super) fn finite(path: &FieldPath, name: &str, value: f32) -> Check {
     check(path, name, fields::finite(value))
 }
@@ -333,10 +290,6 @@ fn position(path: &FieldPath, child: impl Child, value: DVec3) -> Check {
 
 fn coordinate(path: &FieldPath, name: &str, value: f32) -> Check {
     check(path, name, fields::coordinate(value))
-}
-
-pub(super) fn non_negative_channels(path: &FieldPath, name: &str, value: Vec3) -> Check {
-    check(path, name, fields::non_negative_channels(value))
 }
 
 /// The index and value of the first component for which `bad` holds.

@@ -5,7 +5,7 @@ use glam::DVec3;
 
 use super::{beyond, violation, MAX_CAMERA_SAMPLES};
 use crate::scene::error::number as num;
-use crate::scene::format::{CameraDesc, SceneDesc};
+use crate::scene::format::{CameraDesc, SceneFile};
 use crate::scene::rules::MAX_COORDINATE;
 use crate::scene::validate::Violation;
 
@@ -46,7 +46,7 @@ pub fn lens_violation(camera: &CameraDesc) -> Option<Violation> {
 /// × `camera.time.samples` ≤ [`MAX_CAMERA_SAMPLES`], reported at `camera.time.samples` (the
 /// only factor that can push the product past it). Adaptive renders trace at most
 /// `camera.time.samples` rays per lattice point, so only the time samples count there.
-pub fn camera_samples_violation(scene: &SceneDesc) -> Option<Violation> {
+pub fn camera_samples_violation(scene: &SceneFile) -> Option<Violation> {
     let camera = &scene.camera;
     let lens = if camera.aperture > 0.0 { u64::from(camera.lens.samples) } else { 1 };
     let per_position = match scene.settings.adaptive {

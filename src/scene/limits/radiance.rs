@@ -5,7 +5,7 @@ use glam::{DVec3, Vec3};
 
 use super::MAX_RADIANCE_SUM;
 use crate::scene::error::number as num;
-use crate::scene::format::{LightDesc, SceneDesc};
+use crate::scene::format::{LightDesc, SceneFile};
 use crate::scene::locate::FieldPath;
 use crate::scene::validate::Violation;
 
@@ -24,7 +24,7 @@ pub struct RadianceBudget {
 
 impl RadianceBudget {
     /// The budget of `scene` (its settings, camera and lights).
-    pub fn of(scene: &SceneDesc) -> Self {
+    pub fn of(scene: &SceneFile) -> Self {
         let s = &scene.settings;
         let mut parts = Vec::new();
         let camera = match s.adaptive {
@@ -97,7 +97,7 @@ const CHANNELS: [&str; 3] = ["r", "g", "b"];
 
 /// The radiance rule: a violation at the term that contributes most to the worst channel
 /// (`settings.background`, `settings.ambient` or `lights[i].intensity` / `.colour`).
-pub fn radiance_violation(scene: &SceneDesc) -> Option<Violation> {
+pub fn radiance_violation(scene: &SceneFile) -> Option<Violation> {
     let budget = RadianceBudget::of(scene);
     let (sum, c) = budget.worst();
     if sum <= MAX_RADIANCE_SUM {

@@ -110,7 +110,7 @@ fn camera_samples_must_fit_32_bits_and_blame_the_time_samples() {
 
 #[test]
 fn the_lens_must_fit() {
-    let mut camera = default_scene().camera;
+    let mut camera = default_scene().file.camera;
     camera.aperture = 1e30;
     assert_eq!(lens_violation(&camera).expect("beyond").path.to_string(), "aperture");
     camera.aperture = 1e17;

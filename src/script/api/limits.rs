@@ -8,7 +8,7 @@ use glam::DVec3;
 use super::convert::{error, ScriptResult};
 use super::scene::camera_desc;
 use crate::scene::error::number as num;
-use crate::scene::format::{AdaptiveSettings, AntiAliasing, LightDesc, Sampling, SceneDesc, SettingsDesc};
+use crate::scene::format::{AdaptiveSettings, AntiAliasing, LightDesc, Sampling, SceneFile, SettingsDesc};
 use crate::scene::limits::{
     camera_samples_violation, extent_excess, extent_rule, lens_violation, radiance_violation, Extent,
     Placement,
@@ -74,7 +74,7 @@ pub fn radiance(state: &ScriptState, what: &str) -> ScriptResult<()> {
     let s = &state.settings;
     let mut camera = camera_desc(state);
     camera.lens = Sampling { samples: s.lens_samples, ..Default::default() };
-    let scene = SceneDesc {
+    let scene = SceneFile {
         camera,
         settings: SettingsDesc {
             max_depth: s.max_depth,
@@ -91,9 +91,6 @@ pub fn radiance(state: &ScriptState, what: &str) -> ScriptResult<()> {
         textures: Vec::new(),
         lights: lights.iter().map(|(_, l)| l.clone()).collect(),
         objects: Vec::new(),
-        meshes: Default::default(),
-        texture_table: Default::default(),
-        library_textures: Vec::new(),
     };
     if let Some(v) = camera_samples_violation(&scene) {
         return error(format!("{what}: {}", script_names(&v.rule)));
