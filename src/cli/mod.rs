@@ -1,5 +1,8 @@
-//! The command line (clap): `render` (the default), `animate`, `sweep`, `status`, `report` and `info`. Only the binary uses this
-//! module; everything it calls is the library's public API.
+//! The command line (clap): `render` (the default), `animate`, `sweep`, `status`, `report` and
+//! `info`, one module each, with the size and memory estimate shown before a render
+//! ([`estimate`]), Ctrl-C handling ([`interrupt`]) and the provenance every output carries
+//! ([`meta`]). Only the binary uses this module (feature `cli`); everything it calls is the
+//! library's public API.
 
 pub mod animate;
 pub mod estimate;

@@ -1,4 +1,11 @@
-//! The film: a linear-light RGB image, and its encoding to files.
+//! The film: a linear-light RGB image ([`Film`]), and its encoding to files.
+//!
+//! This module owns the display transform ([`tonemap`]: exposure, the tone operators and the
+//! sRGB curve), the arbitrary output variables ([`aov`]), writing images atomically in every
+//! output format ([`output`]: 8- and 16-bit PNG, half and float EXR, each with its
+//! provenance [`metadata`]), reading PNGs back in linear light ([`png_read`]) and the image
+//! metrics reports compare with ([`metrics`]: RMSE, PSNR, SSIM, error heat maps). It depends
+//! on nothing above it: the tracer hands it pixels, the command line hands it paths.
 
 pub mod aov;
 mod aov_png;

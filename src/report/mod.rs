@@ -1,6 +1,11 @@
 //! Accuracy against time: render a high-sample reference, sweep the sample counts of the
 //! effects a scene uses, and report each variant's error (RMSE, PSNR, SSIM) against its
 //! render time and rays, with plots and a static HTML page.
+//!
+//! This module owns the sweep description ([`sweep`]: axes, variants, the reference's
+//! settings), the high-sample reference ([`reference`]), running every variant and measuring
+//! it ([`run`]), the plots ([`plot`]) and the page ([`html`]). It is behind the `reports`
+//! feature; it reads scenes and renders through the library's public API.
 
 pub mod html;
 pub mod plot;

@@ -1,22 +1,28 @@
 //! Scene files: the RON format, its validation with file positions, and loading.
 //!
-//! A scene is a RON file deserialized into [`SceneDesc`] (the schema lives in [`format`](mod@format) and
-//! `docs/scene-format.md`). [`load_scene`] and [`parse_scene`] parse and [`validate`] it and
-//! report any problem as a [`SceneError`] naming the file, line, column and field:
+//! A scene file is RON deserialized into [`SceneFile`] (the schema lives in
+//! [`format`](mod@format) and `docs/scene-format.md`; its sampling, adaptive and tone-mapping
+//! parts are the engine's own types). [`load_scene`] and [`parse_scene`] parse and
+//! [`validate`] it, load what it names and return a [`SceneDesc`]: the file and its loaded
+//! [`SceneAssets`] (meshes, textures) side by side. Any problem is a [`SceneError`] naming the
+//! file, line, column and field:
 //!
 //! ```text
 //! scenes/bad.ron:12:51: field `objects[0].shape.radius`: must be > 0, got -1
 //! ```
 //!
-//! [`locate`] maps field paths to source positions, since ron keeps none for values after
-//! deserialization. [`default_scene`] is the built-in `scenes/default.ron`. [`spawn_world`]
-//! turns a validated scene into a World of entities. [`obj`] imports Wavefront OBJ meshes.
-//! [`inputs`] lists and hashes the files a frame is made from (scene, script, meshes).
-//! [`limits`] checks what fields produce together (world-space sizes, the lens, summed
-//! radiance).
-//! [`SceneBuilder`] puts the same description together in code, checked by the same rules.
-//! [`rules`] is the table of numeric limits every check reads.
-//! [`ray_tree`] bounds a camera sample's ray tree and warns when the ray budget would cut it.
+//! This module owns:
+//! - the schema ([`format`](mod@format)), the loaded description ([`desc`]) and loading
+//!   ([`load`], [`mesh`], [`obj`], [`mtl`], [`mesh_materials`], [`texture`]);
+//! - the rules: [`fields`] (each value's rule, shared with script writes), [`rules`] (the
+//!   numeric limits), [`validate`](mod@validate) (the file's rules in document order) and [`limits`] (what
+//!   fields produce together: world-space sizes, the lens, summed radiance);
+//! - [`locate`], which maps field paths to source positions (ron keeps none for values);
+//! - [`SceneBuilder`], the same description put together in code and checked by the same rules;
+//! - [`spawn_world`], which turns a description into a World of entities, and
+//!   [`default_scene`], the built-in `scenes/default.ron`;
+//! - [`inputs`] (the files a frame is made from, hashed) and [`ray_tree`] (a camera sample's
+//!   ray tree against the ray budget).
 //!
 //! [`validate`]: validate::validate
 pub mod builder;

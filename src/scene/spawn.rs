@@ -12,7 +12,7 @@ use crate::geom;
 use crate::math::Vec3;
 use crate::sample::warp::orthonormal_basis;
 use crate::store::{MaterialId, PrimitiveStore};
-use crate::trace;
+use crate::trace::{self, RenderSettings};
 use crate::world::components::{Light, MaterialRef, Name, Shape, Transform, Visible, WorldAabb, WorldShape};
 use crate::world::resources::{CameraRig, Focus, FrameOrigin, Materials, MeshTable, SceneSettings, Textures};
 use crate::world::SceneWorld;
@@ -40,24 +40,27 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
     });
     let s = &desc.settings;
     world.insert_resource(SceneSettings {
-        width: c.width,
-        height: c.height,
-        max_depth: s.max_depth,
-        min_contribution: s.min_contribution,
+        render: RenderSettings {
+            width: c.width,
+            height: c.height,
+            max_depth: s.max_depth,
+            min_contribution: s.min_contribution,
+            seed: s.seed,
+            frame: 0,
+            aa: s.aa,
+            adaptive: s.adaptive,
+            noise: s.noise,
+            lens: c.lens,
+            glossy: s.glossy,
+            max_secondary_rays: s.max_secondary_rays,
+            simd: crate::simd::SimdLevel::Auto,
+            // Validated on load: `0 <= open <= close <= 1`.
+            shutter: c.shutter.and_then(|(open, close)| crate::camera::Shutter::new(open, close).ok()),
+            time: c.time,
+        },
         background: s.background,
         ambient: s.ambient,
-        seed: s.seed,
-        frame: 0,
         lambda: DEFAULT_LAMBDA,
-        aa: s.aa,
-        adaptive: s.adaptive,
-        noise: s.noise,
-        lens: c.lens,
-        glossy: s.glossy,
-        max_secondary_rays: s.max_secondary_rays,
-        // Validated on load: `0 <= open <= close <= 1`.
-        shutter: c.shutter.and_then(|(open, close)| crate::camera::Shutter::new(open, close).ok()),
-        time: c.time,
     });
 
     let mut blocks = super::mesh_materials::MaterialBlocks::default();

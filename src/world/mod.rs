@@ -118,24 +118,7 @@ impl<S: PrimitiveStore + 'static> SceneWorld<S> {
 
     /// The render settings the World's [`SceneSettings`] describe.
     pub fn render_settings(&self) -> RenderSettings {
-        let s = self.world.resource::<SceneSettings>();
-        RenderSettings {
-            width: s.width,
-            height: s.height,
-            max_depth: s.max_depth,
-            min_contribution: s.min_contribution,
-            seed: s.seed,
-            frame: s.frame,
-            aa: s.aa,
-            adaptive: s.adaptive,
-            noise: s.noise,
-            lens: s.lens,
-            glossy: s.glossy,
-            max_secondary_rays: s.max_secondary_rays,
-            simd: crate::simd::SimdLevel::Auto,
-            shutter: s.shutter,
-            time: s.time,
-        }
+        self.world.resource::<SceneSettings>().render
     }
 
     /// The World's settings, to change between frames (image size, depth, seed, frame number).

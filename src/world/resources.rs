@@ -8,9 +8,8 @@ use glam::DVec3;
 
 use crate::accel::{UniformGrid, DEFAULT_LAMBDA};
 use crate::math::Vec3;
-use crate::sample::adaptive::AdaptiveSettings;
 use crate::store::{MaterialId, MeshAsset, MeshEntry, PrimitiveStore};
-use crate::trace::{AntiAliasing, Material, RenderSettings, Sampling, TraceScene};
+use crate::trace::{Material, RenderSettings, TraceScene};
 
 /// Material table; [`MaterialId`] indexes it. Names are kept for scripts and messages.
 #[derive(Resource, Debug, Clone, Default)]
@@ -120,65 +119,28 @@ pub struct ShutterCamera(pub Option<CameraRig>);
 #[derive(Resource, Debug, Clone, Copy, Default, PartialEq)]
 pub struct FrameOrigin(pub DVec3);
 
-/// Frame-wide render settings.
+/// Frame-wide settings: how the tracer renders (its own [`RenderSettings`], not a copy of
+/// them) and the scene-wide terms the snapshot and the grid take.
 #[derive(Resource, Debug, Clone, Copy, PartialEq)]
 pub struct SceneSettings {
-    /// Image width in pixels.
-    pub width: u32,
-    /// Image height in pixels.
-    pub height: u32,
-    /// Maximum reflection/refraction depth.
-    pub max_depth: u32,
-    /// Minimum path weight worth tracing.
-    pub min_contribution: f32,
+    /// How every frame is rendered (image size, depth, seed, frame number, the effects'
+    /// sample counts); its `simd` is the caller's choice at render time.
+    pub render: RenderSettings,
     /// Colour of escaping rays.
     pub background: Vec3,
     /// Ambient light.
     pub ambient: Vec3,
-    /// Seed of all randomness.
-    pub seed: u64,
-    /// Frame number.
-    pub frame: u32,
     /// Grid density: cells ≈ λ · objects.
     pub lambda: f32,
-    /// Anti-aliasing.
-    pub aa: AntiAliasing,
-    /// Adaptive supersampling (replaces `aa` when set).
-    pub adaptive: Option<AdaptiveSettings>,
-    /// Noise-driven adaptive sampling (batches of the `aa` set until the noise is low).
-    pub noise: Option<crate::sample::NoiseSettings>,
-    /// Lens samples per camera sample.
-    pub lens: Sampling,
-    /// Rays per glossy reflection or blurry refraction at the first bounce.
-    pub glossy: Sampling,
-    /// Secondary rays one camera sample may trace.
-    pub max_secondary_rays: u32,
-    /// When the shutter is open (motion blur); `None`: an instant.
-    pub shutter: Option<crate::camera::Shutter>,
-    /// Time samples per camera sample, where something moves while the shutter is open.
-    pub time: Sampling,
 }
 
 impl Default for SceneSettings {
     fn default() -> Self {
         Self {
-            width: 640,
-            height: 480,
-            max_depth: 5,
-            min_contribution: 1e-3,
+            render: RenderSettings::default(),
             background: Vec3::ZERO,
             ambient: Vec3::splat(0.1),
-            seed: 0,
-            frame: 0,
             lambda: DEFAULT_LAMBDA,
-            aa: AntiAliasing::default(),
-            adaptive: None,
-            noise: None,
-            lens: Sampling::default(),
-            glossy: RenderSettings::default().glossy,
-            max_secondary_rays: RenderSettings::default().max_secondary_rays,
-            shutter: None,
-            time: Sampling::default(),
         }
     }
 }

@@ -67,7 +67,8 @@ impl ScriptState {
     /// The mirror of a World holding a spawned scene.
     pub fn from_world(world: &mut World) -> Self {
         let rig = *world.resource::<CameraRig>();
-        let s = *world.resource::<SceneSettings>();
+        let scene = *world.resource::<SceneSettings>();
+        let s = scene.render;
         let materials = world.resource::<Materials>().table.clone();
         let mut state = ScriptState {
             camera: CameraState {
@@ -91,8 +92,8 @@ impl ScriptState {
                 glossy_samples: s.glossy.samples,
                 adaptive: s.adaptive.map(|a| (a.threshold as f64, a.max_depth)),
                 max_depth: s.max_depth,
-                background: s.background,
-                ambient: s.ambient,
+                background: scene.background,
+                ambient: scene.ambient,
                 max_secondary_rays: s.max_secondary_rays,
                 seed: s.seed,
             },
@@ -206,7 +207,7 @@ pub fn apply_script_writes(
     }
     if state.settings_dirty {
         let s = state.settings;
-        let mut next = *settings;
+        let mut next = settings.render;
         next.width = s.width;
         next.height = s.height;
         next.aa.samples = s.samples;
@@ -219,11 +220,13 @@ pub fn apply_script_writes(
         next.max_depth = s.max_depth;
         next.max_secondary_rays = s.max_secondary_rays;
         next.seed = s.seed;
-        settings.set_if_neq(next);
+        if settings.render != next {
+            settings.render = next;
+        }
     }
     let frame = state.clock.frame;
-    if settings.frame != frame {
-        settings.frame = frame;
+    if settings.render.frame != frame {
+        settings.render.frame = frame;
     }
     state.camera_dirty = false;
     state.settings_dirty = false;
