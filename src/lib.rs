@@ -2,7 +2,7 @@
 //!
 //! A frame flows `scene` (RON → [`scene::SceneDesc`]) → `world` (bevy_ecs entities, change
 //! detection) → [`trace::TraceScene`] (an immutable structure-of-arrays snapshot with a
-//! uniform grid) → [`trace::render`] (rayon tiles, 3D DDA, Phong) → `film` (an sRGB PNG or an
+//! uniform grid) → [`trace::render()`] (rayon tiles, 3D DDA, Phong) → `film` (an sRGB PNG or an
 //! EXR, written atomically).
 //!
 //! Load a scene file, render it and write a PNG:

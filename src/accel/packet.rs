@@ -173,7 +173,7 @@ impl<const N: usize> Frame<'_, N> {
 /// Returns `None` when the packet is not coherent enough to walk together (and `Some` when it
 /// walked, or when no lane meets the grid): when the live lanes
 /// disagree on the sign of the dominant axis (or move along it not at all), or when a slice's
-/// rectangle holds more than [`CELLS_PER_LANE`] cells per walking lane (rays spreading apart, or
+/// rectangle holds more than `CELLS_PER_LANE` cells per walking lane (rays spreading apart, or
 /// crossing the grid at a shallow angle to the slices). What the sink has found so far stands;
 /// the caller finishes the lanes one by one. `cells` counts the cells visited.
 #[inline(always)]

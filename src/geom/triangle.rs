@@ -370,7 +370,7 @@ impl<const N: usize> WatertightPacket<N> {
 
 /// Tests triangle `[v0, v1, v2]` against the `live` lanes, each within `(t_min, bound)`; a
 /// lane it hits nearer gets `record(lane, hit)` and its bound moves. Bit for bit
-/// [`triangle::intersect`] on every lane: lanes that share a permutation read the permuted
+/// [`intersect`] on every lane: lanes that share a permutation read the permuted
 /// vertices once, lanes that do not each select their own coordinates.
 #[inline(always)]
 pub fn triangle_lanes<const N: usize>(

@@ -3,7 +3,7 @@
 //! render time and rays, with plots and a static HTML page.
 //!
 //! This module owns the sweep description ([`sweep`]: axes, variants, the reference's
-//! settings), the high-sample reference ([`reference`]), running every variant and measuring
+//! settings), the high-sample reference ([`reference`](mod@reference)), running every variant and measuring
 //! it ([`run`]), the plots ([`plot`]) and the page ([`html`]). It is behind the `reports`
 //! feature; it reads scenes and renders through the library's public API.
 

@@ -43,7 +43,7 @@ use crate::scene::{LightDesc, SceneDesc};
 use crate::trace::Effects;
 
 /// Why a sweep file could not be loaded; displays like a scene error,
-/// `file:line:col: field `axes[0].samples[1]`: rule`.
+/// ``file:line:col: field `axes[0].samples[1]`: rule``.
 #[derive(Debug, thiserror::Error)]
 pub enum SweepError {
     /// The sweep file could not be read.

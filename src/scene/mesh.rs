@@ -55,7 +55,7 @@ impl MeshLibrary {
         self.get_key((file, smooth, false))
     }
 
-    /// The id and asset loaded under `(file, smooth, from_file)` ([`ShapeDesc::mesh_key`]), if
+    /// The id and asset loaded under `(file, smooth, from_file)` ([`ShapeDesc::mesh_key`](super::ShapeDesc::mesh_key)), if
     /// loaded.
     pub fn get_key(
         &self,

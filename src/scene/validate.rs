@@ -1,4 +1,4 @@
-//! The rules a [`SceneDesc`] must satisfy beyond what serde checks: ranges, geometry and
+//! The rules a [`SceneFile`] must satisfy beyond what serde checks: ranges, geometry and
 //! references between materials and objects.
 //!
 //! [`validate`] stops at the first [`Violation`] in document order (camera, settings,

@@ -153,7 +153,7 @@ const MIN_BLOCK: usize = 3;
 
 /// Nearest triangle hit in `(t_min, t_max)` with its index, walking the mesh grid front to back
 /// ([`walk::nearest`]), adding the cells visited and triangles tested to `cost`. A cell's
-/// triangles are tested together, [`BLOCK`] at a time, at this thread's
+/// triangles are tested together, `BLOCK` at a time, at this thread's
 /// [`crate::simd::single_ray_level`] (one at a time at `Scalar`); every level finds the same hit.
 #[inline]
 pub fn intersect<L: TriangleLayout, T: Tally>(

@@ -1,7 +1,7 @@
 //! The Whitted integrator with distribution effects: radiance along a ray, from direct light
 //! ([`super::phong`]) and recursive mirror or glossy reflection and sharp or blurry
 //! refraction. What a ray hits and what a shadow ray lets through are asked of
-//! [`super::visibility`]; the path's limits and samples are carried in a [`PathContext`].
+//! [`super::visibility`]; the path's limits and samples are carried in a `PathContext`.
 
 use super::path::{CameraSample, PathContext};
 use super::phong::{direct_light, Surface};
@@ -22,7 +22,7 @@ pub const MAX_GLOSSY_ANGLE: f32 = std::f32::consts::FRAC_PI_4;
 /// Radiance arriving along a single `ray` (a unit direction) from a scene rendered with
 /// `settings`: the path of a pixel's only camera sample, with the settings' depth, glossy
 /// samples and ray budget, and the first sample key of frame `settings.frame`. For probing a
-/// scene ray by ray; [`super::render`] renders whole images.
+/// scene ray by ray; [`super::render()`] renders whole images.
 ///
 /// ```
 /// use penumbra::prelude::*;

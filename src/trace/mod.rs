@@ -1,14 +1,14 @@
 //! Tracing: the immutable snapshot a frame is rendered from, Phong shading with shadows,
 //! reflection and refraction, the parallel tile renderer and its statistics.
 //!
-//! Dependencies point one way: [`render`] dispatches to the tile renderers (`tiles`,
+//! Dependencies point one way: [`render`](mod@render) dispatches to the tile renderers (`tiles`,
 //! `camera_samples`, `packet_tile`, `corners` for adaptive supersampling, `progressive` for
 //! noise-driven rounds), which trace paths with the [`integrator`]; it shades with [`phong`]
 //! and asks [`visibility`] what a ray hits and what a shadow ray lets through; the path's
 //! state (limits, ray budget, effect samples) is `path`; [`settings`] is what every layer
 //! reads. Sample dimensions come from one table, [`crate::sample::dims`].
 //!
-//! Nothing here touches the ECS: [`render`] is a pure function of a [`TraceScene`] and
+//! Nothing here touches the ECS: [`render()`] is a pure function of a [`TraceScene`] and
 //! [`RenderSettings`], which is what makes it testable without a World and deterministic.
 
 pub mod aov;

@@ -100,7 +100,7 @@ impl MovingObject {
     ///
     /// Under translation alone every point moves along a straight line, so the box around the
     /// open and close bounds holds the sweep. With rotation or scaling the motion is sampled at
-    /// [`SWEEP_STEPS`] + 1 times and the box widened by how far a point may stray from the
+    /// `SWEEP_STEPS` + 1 times and the box widened by how far a point may stray from the
     /// chord between two samples: its speed relative to the translation is at most
     /// `L = (θ · max scale + max scale change) · r` (θ the rotation angle, `r` the object-space
     /// distance of its farthest corner), and a path with speed `L` stays within `L · h` of the

@@ -7,7 +7,7 @@
 //! its rays' common dominant axis; in each slice it visits the rectangle of cells that bounds
 //! all its live rays there, and tests each object found against all its live lanes. A mesh
 //! instance maps the packet into object space and walks its mesh grid the same way, testing
-//! each triangle against all lanes with one SIMD kernel ([`triangle_lanes`]).
+//! each triangle against all lanes with one SIMD kernel ([`triangle_lanes`](crate::geom::triangle::triangle_lanes)).
 //!
 //! **Same answers as single rays.** Every lane's hit comes from the same primitive tests, with
 //! the same IEEE operations in the same order, as the single-ray path's
@@ -175,10 +175,10 @@ pub fn shadow_passes<const N: usize, S: PrimitiveStore>(
 
 /// Every active lane's shadow transmittance in a scene with transmission: planes lane by lane,
 /// then the top-level grid by coherent traversal. Each object met is handled whole for every
-/// walking lane, as a single ray handles it ([`super::visibility::object_transmittance`]: all
+/// walking lane, as a single ray handles it (`object_transmittance`: all
 /// its crossings, nearest first, each found by the packet kernels), and a lane drops out once an
 /// object blocks it. A lane's shares are multiplied in ascending object id
-/// ([`super::visibility::ordered_product`]), the order the single-ray walk uses too, so the
+/// (`ordered_product`), the order the single-ray walk uses too, so the
 /// product has the same bits although the packet meets the objects in another order. Lanes of
 /// a packet that cannot walk together are traced alone from the start.
 #[inline(always)]

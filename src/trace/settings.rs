@@ -1,5 +1,5 @@
 //! How a snapshot is rendered: image size, depth, seed, and the sample counts and patterns of
-//! every distribution effect. The renderer ([`super::render`]) and the integrator read it.
+//! every distribution effect. The renderer ([`super::render()`]) and the integrator read it.
 
 use serde::Deserialize;
 

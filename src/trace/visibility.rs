@@ -106,7 +106,7 @@ impl Nearest {
 /// length, which may be any), per colour channel: 0 behind an opaque object, the product of
 /// `kt` over every surface
 /// crossed otherwise (planes first, then each object's crossings nearest first, the objects in
-/// ascending id: [`ordered_product`]). Counts nothing; see
+/// ascending id: `ordered_product`). Counts nothing; see
 /// [`transmittance_tallied`] for the traversal statistics.
 ///
 /// Each object is handled whole the first time the walk meets it: all its crossings in
@@ -118,7 +118,7 @@ pub fn transmittance<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max:
 }
 
 /// [`transmittance`], adding the cells visited and primitives tested to `tally` (a
-/// [`TraversalCost`] counts them). Both branches walk the top-level grid with the any-hit walk
+/// [`TraversalCost`](crate::store::TraversalCost) counts them). Both branches walk the top-level grid with the any-hit walk
 /// the mesh grids share ([`walk::any`]); with transmission, "hit" means the light is used up.
 pub fn transmittance_tallied<S: PrimitiveStore, T: Tally>(
     scene: &TraceScene<S>,
