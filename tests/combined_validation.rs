@@ -320,12 +320,9 @@ fn root() -> PathBuf {
 
 #[test]
 fn every_shipped_scene_and_script_passes_the_combined_rules() {
-    for entry in std::fs::read_dir(root().join("scenes")).expect("scenes/") {
-        let path = entry.expect("an entry").path();
-        if path.extension().is_some_and(|e| e == "ron") {
-            if let Err(e) = load_scene(&path) {
-                panic!("{}: {e}", path.display());
-            }
+    for path in crate::common::shipped_scenes() {
+        if let Err(e) = load_scene(&path) {
+            panic!("{}: {e}", path.display());
         }
     }
     let fly = load_scene(&root().join("scenes/flythrough.ron")).expect("loads");

@@ -12,23 +12,8 @@ use penumbra::world::SceneWorld;
 
 #[test]
 fn every_shipped_scene_renders_finite_values_only() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
     let mut rendered = 0;
-    for entry in std::fs::read_dir(&dir).unwrap() {
-        let path = entry.unwrap().path();
-        if path.extension().is_none_or(|e| e != "ron") {
-            continue;
-        }
-        let text = std::fs::read_to_string(&path).unwrap();
-        // The anchor scenes read the full models from ../shared/models, which tests may not have.
-        if text.contains("shared/models/")
-            && !text
-                .split('"')
-                .any(|s| s.contains("shared/models/") && path.parent().unwrap().join(s).exists())
-        {
-            eprintln!("skipping {} (its model is not beside the repository)", path.display());
-            continue;
-        }
+    for path in crate::common::shipped_scenes() {
         let desc = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
         let mut world: SceneWorld = spawn_world(&desc);
         let mut settings = world.render_settings();

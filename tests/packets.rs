@@ -401,15 +401,7 @@ fn render_shipped(path: &std::path::Path, simd: SimdLevel) -> Vec<u32> {
 
 #[test]
 fn every_shipped_scene_renders_the_same_bits_on_every_path() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
-    let mut scenes: Vec<_> = std::fs::read_dir(&dir)
-        .expect("scenes/")
-        .map(|e| e.expect("entry").path())
-        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
-        .collect();
-    scenes.sort();
-    assert!(scenes.len() >= 10, "the shipped scenes");
-    for path in scenes {
+    for path in common::shipped_scenes() {
         let want = render_shipped(&path, SimdLevel::Scalar);
         for level in [SimdLevel::Baseline, SimdLevel::Avx2, SimdLevel::Avx512] {
             if level.available() {

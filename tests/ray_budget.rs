@@ -127,30 +127,9 @@ fn a_cut_image_is_the_same_at_one_and_two_threads() {
     }
 }
 
-/// The shipped scenes whose models are present.
-fn shipped_scenes() -> Vec<std::path::PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
-    let mut scenes: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
-        .filter(|p| {
-            // The anchor scenes read the full models from ../shared/models, which tests may not have.
-            let text = std::fs::read_to_string(p).unwrap();
-            !text.contains("shared/models/")
-                || text
-                    .split('"')
-                    .any(|s| s.contains("shared/models/") && p.parent().unwrap().join(s).exists())
-        })
-        .collect();
-    scenes.sort();
-    assert!(scenes.len() >= 10, "only {} scenes", scenes.len());
-    scenes
-}
-
 #[test]
 fn no_shipped_scene_reaches_the_budget_so_its_pixels_are_unchanged() {
-    for path in shipped_scenes() {
+    for path in crate::common::shipped_scenes() {
         let desc = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
         let mut world: SceneWorld = spawn_world(&desc);
         let mut settings = world.render_settings();

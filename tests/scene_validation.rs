@@ -817,21 +817,10 @@ fn wrong_types_in_effect_fields_say_what_was_expected() {
 
 #[test]
 fn every_shipped_scene_loads() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
     let mut names = Vec::new();
-    for entry in std::fs::read_dir(&dir).expect("scenes/ exists") {
-        let path = entry.expect("readable entry").path();
-        if path.extension().is_some_and(|ext| ext == "ron") {
-            // ANCHORS.md's mesh scenes read the full models from ../shared/models/, which a
-            // checkout need not have: those are checked only where the models are.
-            let text = std::fs::read_to_string(&path).expect("readable scene");
-            if text.contains("shared/models/") && !dir.join("../../shared/models").is_dir() {
-                eprintln!("skipped {}: ../shared/models/ is not beside this checkout", path.display());
-                continue;
-            }
-            load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
-            names.push(path.file_name().expect("file name").to_string_lossy().into_owned());
-        }
+    for path in crate::common::shipped_scenes() {
+        load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+        names.push(path.file_name().expect("file name").to_string_lossy().into_owned());
     }
     for expected in ["default.ron", "every_type.ron", "effects_aa.ron", "showcase.ron"] {
         assert!(names.iter().any(|name| name == expected), "scenes/ lacks {expected}");

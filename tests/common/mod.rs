@@ -371,3 +371,33 @@ pub fn on_a_terminal(dir: &std::path::Path, command: &str) -> Option<String> {
     assert!(out.status.success(), "{shown}");
     Some(shown)
 }
+
+/// The shipped scenes (`scenes/*.ron`, sorted) that can load here: ANCHORS.md's mesh scenes
+/// read the full models from `../shared/models/`, which a checkout need not have, so a scene
+/// naming a model that is absent is left out, with a note on stderr.
+#[allow(dead_code)]
+pub fn shipped_scenes() -> Vec<std::path::PathBuf> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut scenes: Vec<_> = std::fs::read_dir(&dir)
+        .expect("scenes/")
+        .map(|e| e.expect("a readable entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
+        .filter(|p| {
+            let text = std::fs::read_to_string(p).expect("a readable scene");
+            let models_here = text
+                .split('"')
+                .filter(|s| s.contains("shared/models/"))
+                .all(|s| p.parent().expect("in scenes/").join(s).exists());
+            if !models_here {
+                eprintln!(
+                    "skipped {}: its model is not in ../shared/models/ beside this checkout",
+                    p.display()
+                );
+            }
+            models_here
+        })
+        .collect();
+    scenes.sort();
+    assert!(scenes.len() >= 10, "only {} shipped scenes", scenes.len());
+    scenes
+}
