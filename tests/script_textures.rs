@@ -136,11 +136,15 @@ fn the_handle_reads_back_what_was_written_and_lists_the_textures() {
                 throw `bands reads ${bands.scale} ${bands.offset} ${bands.rotation}`;
             }
             if bands.name != "bands" || `${bands}` != "texture(\"bands\")" { throw `${bands}`; }
-            bands.offset = [0.1, 0.2];
-            if bands.offset != vec3(0.1, 0.2, 0) { throw `offset ${bands.offset}`; }
+            // The table keeps f32: values it holds exactly read back exactly.
+            bands.offset = [0.25, 0.5];
+            if bands.offset != vec3(0.25, 0.5, 0) { throw `offset ${bands.offset}`; }
             bands.offset.x += 1;                 // a component, written back through the handle
             bands.offset += vec3(0, 1, 0);
-            if bands.offset != vec3(1.1, 1.2, 0) { throw `offset ${bands.offset}`; }
+            if bands.offset != vec3(1.25, 1.5, 0) { throw `offset ${bands.offset}`; }
+            bands.offset = [0.1, 0];
+            if abs(bands.offset.x - 0.1) > 1e-8 { throw `offset ${bands.offset}`; }
+            bands.offset = [1.1, 1.2];
             bands.scale = 2;                     // one number: both coordinates
             bands.rotation = 12.5;
             if bands.scale != vec3(2, 2, 0) || bands.rotation != 12.5 { throw `${bands.scale}`; }

@@ -31,7 +31,7 @@ mod camera;
 mod extent;
 mod radiance;
 
-pub use camera::{camera_samples_violation, lens_violation};
+pub use camera::{camera_samples_violation, lens_rule, lens_violation};
 pub use extent::{extent_excess, extent_rule, light_extent_violation, object_violation, Extent, Placement};
 pub use radiance::{radiance_violation, RadianceBudget};
 

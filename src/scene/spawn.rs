@@ -13,7 +13,9 @@ use crate::math::Vec3;
 use crate::sample::warp::orthonormal_basis;
 use crate::store::{MaterialId, PrimitiveStore};
 use crate::trace::{self, RenderSettings};
-use crate::world::components::{Light, MaterialRef, Name, Shape, Transform, Visible, WorldAabb, WorldShape};
+use crate::world::components::{
+    Light, LightTerms, MaterialRef, Name, Shape, Transform, Visible, WorldAabb, WorldShape,
+};
 use crate::world::resources::{CameraRig, Focus, FrameOrigin, Materials, MeshTable, SceneSettings, Textures};
 use crate::world::SceneWorld;
 
@@ -101,7 +103,9 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
         ));
     }
     for (i, light) in desc.lights.iter().enumerate() {
-        world.spawn((Name::new(format!("light_{i}")), light_of(light), Visible(true)));
+        let (colour, intensity) = light.terms();
+        let terms = LightTerms { colour, intensity };
+        world.spawn((Name::new(format!("light_{i}")), light_of(light), terms, Visible(true)));
     }
     world.insert_resource(FrameOrigin(c.position));
     world.insert_resource(materials);

@@ -15,8 +15,8 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use super::error::ScriptError;
+use super::lent::Clock;
 use super::runtime::{Script, ScriptedWorld};
-use super::state::Clock;
 use crate::camera::Shutter;
 use crate::scene::SceneDesc;
 use crate::store::{PrimitiveStore, SoaStore};
@@ -129,8 +129,8 @@ pub struct Animation<S: PrimitiveStore + 'static = SoaStore> {
     fps: f64,
     /// The scene's shutter (motion blur), if any.
     shutter: Option<Shutter>,
-    /// The script's state at the last stepped frame's shutter close.
-    close: Option<super::state::ScriptState>,
+    /// The pose at the last stepped frame's shutter close.
+    close: Option<super::shutter::ClosePose>,
     /// The next frame whose `frame(t)` has not run.
     next: u32,
     /// Seconds of the last `step_to`: running the script, then updating the World.

@@ -25,14 +25,13 @@ pub mod animate;
 pub mod api;
 pub mod engine;
 pub mod error;
+pub mod lent;
 pub mod runtime;
 pub mod shutter;
-pub mod state;
 pub mod sweep;
-pub mod texture;
 
 pub use animate::{Animation, FrameRange};
 pub use engine::Limits;
 pub use error::{ErrorKind, Limit, ScriptError};
+pub use lent::Clock;
 pub use runtime::{Script, ScriptRuntime, ScriptedWorld};
-pub use state::Clock;

@@ -11,44 +11,50 @@
 //! write poses as functions of `t`. Lights, visibility, materials and texture transforms are
 //! those at shutter open.
 
-use bevy_ecs::prelude::{Resource, World};
+use bevy_ecs::prelude::{Entity, Resource, World};
 
-use super::state::{rotation_from_degrees, EntityKind, EntityState, ScriptState, SharedState};
-use crate::world::components::{Motion, Transform};
-use crate::world::resources::{CameraRig, ShutterCamera};
+use super::lent::{resolved_rig, FocusOn, ScriptMaterial};
+use crate::world::components::{Light, LightTerms, MaterialRef, Motion, Transform, Visible};
+use crate::world::resources::{CameraRig, Materials, SceneSettings, ShutterCamera, Textures};
 
-/// The script's state at shutter close for the next frame, taken by [`apply_shutter_pose`];
-/// `None`: the frame has no shutter (nothing moves).
+/// The World's pose at shutter close: every named object's transform and the camera rig (its
+/// focus resolved), from [`super::ScriptedWorld::evaluate_at`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ClosePose {
+    /// Each object's transform at shutter close.
+    pub transforms: Vec<(Entity, Transform)>,
+    /// The camera at shutter close.
+    pub rig: CameraRig,
+}
+
+impl ClosePose {
+    /// The pose `world` is in now, for the objects among `entities`.
+    pub fn of(world: &World, entities: &[Entity]) -> Self {
+        let transforms = entities.iter().filter_map(|&e| Some((e, *world.get::<Transform>(e)?))).collect();
+        Self { transforms, rig: resolved_rig(world) }
+    }
+}
+
+/// The pose at shutter close for the next frame, taken by [`apply_shutter_pose`]; `None`: the
+/// frame has no shutter (nothing moves).
 #[derive(Resource, Default)]
-pub struct ShutterPose(pub Option<ScriptState>);
+pub struct ShutterPose(pub Option<ClosePose>);
 
 /// The World's input system after the script's writes: sets or clears each object's
-/// [`Motion`] and the [`ShutterCamera`] from the state at shutter close ([`ShutterPose`],
-/// consumed) against the state at shutter open (the script's current state, just applied).
+/// [`Motion`] and the [`ShutterCamera`] from the pose at shutter close ([`ShutterPose`],
+/// consumed) against the World's pose, which is the pose at shutter open.
 pub fn apply_shutter_pose(world: &mut World) {
-    let close = world.get_resource_mut::<ShutterPose>().and_then(|mut p| p.0.take());
-    let open = world.get_resource::<SharedState>().map(|s| s.lock().clone());
-    let (Some(close), Some(open)) = (close, open) else {
+    let Some(close) = world.get_resource_mut::<ShutterPose>().and_then(|mut p| p.0.take()) else {
         clear_motion(world);
         return;
     };
-    for (was, now) in open.entities.iter().zip(&close.entities) {
-        debug_assert_eq!(was.entity, now.entity, "the mirror's entities keep their order");
-        if !matches!(now.kind, EntityKind::Object { .. }) {
-            continue;
-        }
-        let Some(at_open) = world.get::<Transform>(now.entity).copied() else { continue };
-        let moved = pose_differs(was, now);
-        let mut entity = world.entity_mut(now.entity);
-        match moved {
+    for (entity, at_close) in close.transforms {
+        let Some(at_open) = world.get::<Transform>(entity).copied() else { continue };
+        let mut entity = world.entity_mut(entity);
+        match at_open != at_close {
             true => {
-                let rotation = match now.rotation_written {
-                    true => rotation_from_degrees(now.rotation_deg),
-                    false => at_open.rotation,
-                };
-                let close = Transform { translation: now.position, rotation, scale: now.scale.as_vec3() };
-                if entity.get::<Motion>().map(|m| m.close) != Some(close) {
-                    entity.insert(Motion { close });
+                if entity.get::<Motion>().map(|m| m.close) != Some(at_close) {
+                    entity.insert(Motion { close: at_close });
                 }
             }
             false => {
@@ -58,19 +64,90 @@ pub fn apply_shutter_pose(world: &mut World) {
             }
         }
     }
-    // Both rigs from the mirror, so a camera the script never moved compares equal bit for bit.
-    let (rig_open, rig_close): (CameraRig, CameraRig) = (open.rig(), close.rig());
-    let camera = (rig_close != rig_open).then_some(rig_close);
+    // A camera the script never moved compares equal bit for bit.
+    let camera = (close.rig != resolved_rig(world)).then_some(close.rig);
     let mut shutter_camera = world.resource_mut::<ShutterCamera>();
     if shutter_camera.0 != camera {
         shutter_camera.0 = camera;
     }
 }
 
-/// True when an object's authored pose differs between two states of the mirror.
-fn pose_differs(open: &EntityState, close: &EntityState) -> bool {
-    let rotation = |e: &EntityState| e.rotation_written.then_some(e.rotation_deg);
-    open.position != close.position || open.scale != close.scale || rotation(open) != rotation(close)
+/// Everything a script can write, as it was before a call that is to be undone.
+pub struct Saved {
+    entities: Vec<SavedEntity>,
+    rig: CameraRig,
+    focus_on: Option<FocusOn>,
+    settings: SceneSettings,
+    materials: Materials,
+    textures: Option<Textures>,
+}
+
+type SavedEntity = (
+    Entity,
+    Option<Transform>,
+    Option<Visible>,
+    Option<MaterialRef>,
+    Option<ScriptMaterial>,
+    Option<Light>,
+    Option<LightTerms>,
+);
+
+impl Saved {
+    /// What a script can write in `world`, for the named `entities`.
+    pub fn of(world: &World, entities: &[Entity]) -> Self {
+        let entities = entities
+            .iter()
+            .map(|&e| {
+                (
+                    e,
+                    world.get::<Transform>(e).copied(),
+                    world.get::<Visible>(e).copied(),
+                    world.get::<MaterialRef>(e).copied(),
+                    world.get::<ScriptMaterial>(e).copied(),
+                    world.get::<Light>(e).copied(),
+                    world.get::<LightTerms>(e).copied(),
+                )
+            })
+            .collect();
+        Self {
+            entities,
+            rig: *world.resource::<CameraRig>(),
+            focus_on: world.get_resource::<FocusOn>().copied(),
+            settings: *world.resource::<SceneSettings>(),
+            materials: world.resource::<Materials>().clone(),
+            textures: world.get_resource::<Textures>().cloned(),
+        }
+    }
+
+    /// Puts it all back, leaving the change ticks as they are (the writes undone were made
+    /// quietly, see [`super::lent::LentWorld::lend`]).
+    pub fn restore(self, world: &mut World) {
+        use bevy_ecs::prelude::DetectChangesMut;
+        macro_rules! put {
+            ($entity:expr, $value:expr, $t:ty) => {
+                if let (Some(value), Some(mut c)) = ($value, world.get_mut::<$t>($entity)) {
+                    *c.bypass_change_detection() = value;
+                }
+            };
+        }
+        for (e, transform, visible, material, script_material, light, terms) in self.entities {
+            put!(e, transform, Transform);
+            put!(e, visible, Visible);
+            put!(e, material, MaterialRef);
+            put!(e, script_material, ScriptMaterial);
+            put!(e, light, Light);
+            put!(e, terms, LightTerms);
+        }
+        *world.resource_mut::<CameraRig>().bypass_change_detection() = self.rig;
+        if let (Some(focus), Some(mut r)) = (self.focus_on, world.get_resource_mut::<FocusOn>()) {
+            *r.bypass_change_detection() = focus;
+        }
+        *world.resource_mut::<SceneSettings>().bypass_change_detection() = self.settings;
+        *world.resource_mut::<Materials>().bypass_change_detection() = self.materials;
+        if let (Some(textures), Some(mut r)) = (self.textures, world.get_resource_mut::<Textures>()) {
+            *r.bypass_change_detection() = textures;
+        }
+    }
 }
 
 /// Removes every [`Motion`] and the [`ShutterCamera`]: a frame without a shutter.

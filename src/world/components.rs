@@ -1,5 +1,5 @@
 //! Components of scene entities: authored data (`Shape`, `Transform`, `MaterialRef`, `Light`,
-//! `Visible`, `Name`) and data the systems derive from it (`WorldShape`, `WorldAabb`).
+//! `LightTerms`, `Visible`, `Name`) and data the systems derive from it (`WorldShape`, `WorldAabb`).
 //!
 //! Authored positions are `f64` (a transform's translation, a shape's positions, a light's
 //! anchor); derived data is `f32` and relative to the frame's origin, the camera position
@@ -110,6 +110,17 @@ impl Light {
     pub fn relative_to(&self, origin: DVec3) -> trace::Light {
         self.source.translated((self.anchor - origin).as_vec3())
     }
+}
+
+/// A light's colour and intensity as the scene gives them. The light's radiance
+/// ([`Light::source`]) is their product; scripts read and write the two terms
+/// (`key.intensity = 0.5`), and whoever writes them writes the radiance too.
+#[derive(Component, Debug, Clone, Copy, PartialEq)]
+pub struct LightTerms {
+    /// Linear RGB colour.
+    pub colour: Vec3,
+    /// Scale of the colour.
+    pub intensity: f32,
 }
 
 /// Camera-relative geometry, derived from `Shape`, `Transform` and the frame's origin by

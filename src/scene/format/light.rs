@@ -112,3 +112,16 @@ pub enum LightDesc {
         visible: bool,
     },
 }
+
+impl LightDesc {
+    /// The light's colour and intensity (its radiance is their product).
+    pub fn terms(&self) -> (Vec3, f32) {
+        match *self {
+            LightDesc::Point { colour, intensity, .. }
+            | LightDesc::Spot { colour, intensity, .. }
+            | LightDesc::Directional { colour, intensity, .. }
+            | LightDesc::Rect { colour, intensity, .. }
+            | LightDesc::Disk { colour, intensity, .. } => (colour, intensity),
+        }
+    }
+}

@@ -12,8 +12,18 @@ use crate::scene::validate::Violation;
 /// The lens rule for a camera whose fields are each valid; the path is relative to the camera
 /// (`aperture`, `focus_distance`).
 pub fn lens_violation(camera: &CameraDesc) -> Option<Violation> {
-    let position = camera.position;
-    let aperture = f64::from(camera.aperture);
+    lens_rule(camera.position, camera.look_at, camera.aperture, camera.focus_distance)
+}
+
+/// The lens rule on a camera's parts (a script's camera checks it on the World's rig): the
+/// lens and the focus point at `focus_distance` (when given) within the coordinate limit.
+pub fn lens_rule(
+    position: DVec3,
+    look_at: DVec3,
+    aperture: f32,
+    focus_distance: Option<f32>,
+) -> Option<Violation> {
+    let (camera_aperture, aperture) = (aperture, f64::from(aperture));
     if aperture > 0.0 {
         let reach = position.abs() + DVec3::splat(aperture);
         if let Some((axis, c)) = beyond(reach) {
@@ -21,13 +31,13 @@ pub fn lens_violation(camera: &CameraDesc) -> Option<Violation> {
                 "the lens must lie within ±{MAX_COORDINATE:e} (`position` ± `aperture` on every axis), \
                  but |position.{axis}| + aperture = {}; got aperture {}",
                 num(c),
-                num(camera.aperture.into())
+                num(camera_aperture.into())
             );
             return Some(violation("aperture", rule));
         }
     }
-    if let Some(distance) = camera.focus_distance {
-        let forward = (camera.look_at - position).normalize_or_zero();
+    if let Some(distance) = focus_distance {
+        let forward = (look_at - position).normalize_or_zero();
         let focus = position + forward * f64::from(distance);
         if let Some((axis, c)) = beyond(focus) {
             let rule = format!(

@@ -9,6 +9,7 @@ use crate::scene::format::{LightDesc, ObjectDesc, ShapeDesc, TransformDesc};
 use crate::scene::mesh::MeshLibrary;
 use crate::scene::rules::MAX_COORDINATE;
 use crate::scene::validate::Violation;
+use crate::world::components::Transform;
 
 /// Where a shape lies in object space, as the extent rule sees it.
 #[derive(Debug, Clone, PartialEq)]
@@ -59,7 +60,7 @@ impl Extent {
 
     /// World-space bounds under `placement` (scale, then rotate X, Y, Z, then translate).
     pub fn world_bounds(&self, placement: &Placement) -> (DVec3, DVec3) {
-        let rotation = placement.rotation();
+        let rotation = placement.rotation;
         let place = |p: DVec3| rotation * (placement.scale * p) + placement.translate;
         match self {
             Self::Ball { centre, radius } => {
@@ -78,26 +79,30 @@ impl Extent {
     }
 }
 
-/// An object's placement in 64-bit floats, as [`TransformDesc`] gives it.
+/// An object's placement in 64-bit floats: as a scene transform ([`TransformDesc`]) or the
+/// World's [`Transform`] gives it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Placement {
     /// Translation.
     pub translate: DVec3,
-    /// Rotation in degrees about X, then Y, then Z.
-    pub rotate_deg: DVec3,
+    /// Rotation.
+    pub rotation: DQuat,
     /// Per-axis scale.
     pub scale: DVec3,
 }
 
 impl Placement {
-    /// The placement a scene transform describes.
+    /// The placement a scene transform describes (its rotation about X, then Y, then Z).
     pub fn of(t: &TransformDesc) -> Self {
-        Self { translate: t.translate, rotate_deg: t.rotate_deg.as_dvec3(), scale: t.scale.as_dvec3() }
+        let r = t.rotate_deg.as_dvec3() * (std::f64::consts::PI / 180.0);
+        let rotation =
+            DQuat::from_rotation_z(r.z) * DQuat::from_rotation_y(r.y) * DQuat::from_rotation_x(r.x);
+        Self { translate: t.translate, rotation, scale: t.scale.as_dvec3() }
     }
 
-    fn rotation(&self) -> DQuat {
-        let r = self.rotate_deg * (std::f64::consts::PI / 180.0);
-        DQuat::from_rotation_z(r.z) * DQuat::from_rotation_y(r.y) * DQuat::from_rotation_x(r.x)
+    /// The placement of a World transform.
+    pub fn of_transform(t: &Transform) -> Self {
+        Self { translate: t.translation, rotation: t.rotation.as_dquat(), scale: t.scale.as_dvec3() }
     }
 }
 

@@ -1,7 +1,7 @@
 //! The radiance rule: what a pixel can sum ([`RadianceBudget`]) stays within
 //! [`MAX_RADIANCE_SUM`], and the term to blame when it does not.
 
-use glam::{DVec3, Vec3};
+use glam::DVec3;
 
 use super::MAX_RADIANCE_SUM;
 use crate::scene::error::number as num;
@@ -79,18 +79,8 @@ impl RadianceBudget {
 
 /// A light's colour × intensity, in 64-bit floats (it may overflow 32-bit ones).
 fn light_radiance(light: &LightDesc) -> DVec3 {
-    let (colour, intensity) = light_terms(light);
+    let (colour, intensity) = light.terms();
     colour.as_dvec3() * f64::from(intensity)
-}
-
-fn light_terms(light: &LightDesc) -> (Vec3, f32) {
-    match *light {
-        LightDesc::Point { colour, intensity, .. }
-        | LightDesc::Spot { colour, intensity, .. }
-        | LightDesc::Directional { colour, intensity, .. }
-        | LightDesc::Rect { colour, intensity, .. }
-        | LightDesc::Disk { colour, intensity, .. } => (colour, intensity),
-    }
 }
 
 const CHANNELS: [&str; 3] = ["r", "g", "b"];
@@ -124,7 +114,7 @@ pub fn radiance_violation(scene: &SceneFile) -> Option<Violation> {
     let brightest = lights.iter().copied().enumerate().fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
     let (path, what) = if 2.0 * brightest.1 >= background.max(ambient) {
         let (i, radiance) = brightest;
-        let (colour, intensity) = light_terms(&scene.lights[i]);
+        let (colour, intensity) = scene.lights[i].terms();
         let field = if intensity >= colour.max_element() { "intensity" } else { "colour" };
         let path = FieldPath::root().field("lights").index(i).field(field);
         let (colour, intensity, radiance) = (num(colour[c].into()), num(intensity.into()), num(radiance));

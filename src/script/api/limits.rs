@@ -3,33 +3,40 @@
 //! moving or scaling an object beyond ±1e18 in world space, a lens or focus point beyond it,
 //! and light, sample counts or depth that would let a pixel's radiance sum overflow.
 
+use bevy_ecs::prelude::{Entity, World};
 use glam::DVec3;
 
 use super::convert::{error, ScriptResult};
-use super::scene::camera_desc;
 use crate::scene::error::number as num;
-use crate::scene::format::{AdaptiveSettings, AntiAliasing, LightDesc, Sampling, SceneFile, SettingsDesc};
+use crate::scene::format::{AntiAliasing, CameraDesc, LightDesc, Sampling, SceneFile, SettingsDesc};
 use crate::scene::limits::{
-    camera_samples_violation, extent_excess, extent_rule, lens_violation, radiance_violation, Extent,
-    Placement,
+    camera_samples_violation, extent_excess, extent_rule, lens_rule, radiance_violation, Extent, Placement,
 };
 use crate::scene::locate::Segment;
-use crate::script::state::{EntityKind, EntityState, ScriptState};
+use crate::script::lent::{kind, EntityKind};
+use crate::world::components::{LightTerms, Name, Transform};
+use crate::world::resources::{CameraRig, Focus, SceneSettings};
 
-/// The lens rule on the camera as the script has it.
-pub fn lens(state: &ScriptState) -> ScriptResult<()> {
-    match lens_violation(&camera_desc(state)) {
+/// The lens rule on the World's camera.
+pub fn lens(world: &World) -> ScriptResult<()> {
+    let rig = world.resource::<CameraRig>();
+    let distance = match rig.focus {
+        Focus::Distance(d) => Some(d),
+        _ => None,
+    };
+    match lens_rule(rig.position, rig.look_at, rig.aperture, distance) {
         Some(v) => error(format!("camera.{}: {}", v.path, v.rule)),
         None => Ok(()),
     }
 }
 
-/// The extent rule on an object as the script has it (lights have none); `what` names the
+/// The extent rule on an object as the World places it (lights have none); `what` names the
 /// write, e.g. ``entity `ball`: scale``.
-pub fn extent(entry: &EntityState, what: &str) -> ScriptResult<()> {
-    let EntityKind::Object { pivot, uniform_scale, bounds } = entry.kind else {
+pub fn extent(world: &World, entity: Entity, what: &str) -> ScriptResult<()> {
+    let Some(EntityKind::Object { pivot, uniform_scale, bounds, .. }) = kind(world, entity) else {
         return Ok(());
     };
+    let Some(t) = world.get::<Transform>(entity) else { return Ok(()) };
     let extent = match bounds {
         None => Extent::Plane(pivot),
         Some((min, max)) if uniform_scale => {
@@ -37,59 +44,68 @@ pub fn extent(entry: &EntityState, what: &str) -> ScriptResult<()> {
         }
         Some((min, max)) => Extent::corners(min, max),
     };
-    let placement =
-        Placement { translate: entry.position, rotate_deg: entry.rotation_deg, scale: entry.scale };
-    match extent_excess(&extent, &placement) {
+    match extent_excess(&extent, &Placement::of_transform(t)) {
         Some((_, axis, value)) => error(format!(
             "{what}: {}, but this puts the object at {axis} = {} (position {}, scale {})",
             extent_rule(),
             num(value),
-            entry.position,
-            entry.scale
+            t.translation,
+            t.scale.as_dvec3()
         )),
         None => Ok(()),
     }
 }
 
-/// The camera-samples and radiance rules on the scene as the script has it; `what` names the write, e.g.
-/// `settings.samples` or ``entity `key`: intensity``.
-pub fn radiance(state: &ScriptState, what: &str) -> ScriptResult<()> {
-    let lights: Vec<(&str, LightDesc)> = state
-        .entities
-        .iter()
+/// The camera-samples and radiance rules on the World's settings, camera and lights; `what`
+/// names the write, e.g. `settings.samples` or ``entity `key`: intensity``. The rules are the
+/// scene file's, so they read the parts of a scene file they need.
+pub fn radiance(world: &World, what: &str) -> ScriptResult<()> {
+    let mut lights: Vec<(Entity, String, LightDesc)> = world
+        .iter_entities()
         .filter_map(|e| {
-            let terms = e.light?;
-            let colour = terms.colour.as_vec3();
-            Some((
-                e.name.as_str(),
-                LightDesc::Point {
-                    position: DVec3::ZERO,
-                    colour,
-                    intensity: terms.intensity as f32,
-                    falloff: Default::default(),
-                },
-            ))
+            let terms = e.get::<LightTerms>()?;
+            let name = e.get::<Name>().map_or("?", |n| n.as_str()).to_owned();
+            let light = LightDesc::Point {
+                position: DVec3::ZERO,
+                colour: terms.colour,
+                intensity: terms.intensity,
+                falloff: Default::default(),
+            };
+            Some((e.id(), name, light))
         })
         .collect();
-    let s = &state.settings;
-    let mut camera = camera_desc(state);
-    camera.lens = Sampling { samples: s.lens_samples, ..Default::default() };
+    lights.sort_unstable_by_key(|(e, _, _)| *e);
+    let s = world.resource::<SceneSettings>();
+    let r = &s.render;
+    let rig = world.resource::<CameraRig>();
+    let camera = CameraDesc {
+        position: rig.position,
+        look_at: rig.look_at,
+        up: rig.up,
+        fov_deg: rig.fov_y.to_degrees(),
+        width: r.width,
+        height: r.height,
+        aperture: rig.aperture,
+        focus_distance: None,
+        focus_on: None,
+        lens: Sampling { samples: r.lens.samples, ..Default::default() },
+        shutter: None,
+        time: Sampling { samples: r.time.samples, ..Default::default() },
+    };
     let scene = SceneFile {
         camera,
         settings: SettingsDesc {
-            max_depth: s.max_depth,
+            max_depth: r.max_depth,
             background: s.background,
             ambient: s.ambient,
-            aa: AntiAliasing { samples: s.samples, ..Default::default() },
-            adaptive: s
-                .adaptive
-                .map(|(threshold, max_depth)| AdaptiveSettings { threshold: threshold as f32, max_depth }),
-            glossy: Sampling { samples: s.glossy_samples, ..Default::default() },
+            aa: AntiAliasing { samples: r.aa.samples, ..Default::default() },
+            adaptive: r.adaptive,
+            glossy: Sampling { samples: r.glossy.samples, ..Default::default() },
             ..Default::default()
         },
         materials: Vec::new(),
         textures: Vec::new(),
-        lights: lights.iter().map(|(_, l)| l.clone()).collect(),
+        lights: lights.iter().map(|(_, _, l)| l.clone()).collect(),
         objects: Vec::new(),
     };
     if let Some(v) = camera_samples_violation(&scene) {
@@ -100,7 +116,7 @@ pub fn radiance(state: &ScriptState, what: &str) -> ScriptResult<()> {
     let field = v.path.to_string();
     let who = match v.path.segments() {
         [_, Segment::Index(i), Segment::Field(f)] => {
-            format!("entity `{}`: {f}", lights.get(*i).map_or("?", |(name, _)| name))
+            format!("entity `{}`: {f}", lights.get(*i).map_or("?", |(_, name, _)| name))
         }
         _ => field,
     };

@@ -1,9 +1,10 @@
 //! The API scripts see, registered into a sandboxed engine: vectors and animation helpers
-//! (`math`, `path`), the scene (`scene`: camera, entities, settings, the clock; `texture`:
+//! (`math`, `path`), the scene (`scene`: the camera and the clock; `entity`: objects and lights by name; `settings`; `texture`:
 //! the textures' transforms), sweep helpers (`sweep`) and the property names of each type (`properties`), for error messages;
 //! `limits` checks writes against the scene's combined rules.
 
 pub mod convert;
+pub mod entity;
 pub mod limits;
 pub mod math;
 pub mod path;
@@ -15,15 +16,16 @@ pub mod texture;
 
 use rhai::Engine;
 
-use super::state::SharedState;
+use super::lent::LentWorld;
 
-/// Registers the whole API, the scene part over `state`.
-pub fn register(engine: &mut Engine, state: &SharedState) {
+/// Registers the whole API, the scene part over the World `lent` holds during calls.
+pub fn register(engine: &mut Engine, lent: &LentWorld) {
     math::register(engine);
     path::register(engine);
     sweep::register(engine);
-    scene::register(engine, state);
-    texture::register(engine, state);
+    scene::register(engine, lent);
+    entity::register(engine, lent);
+    texture::register(engine, lent);
 }
 
 /// An engine with the scene-free API (math, paths, sweeps) and evaluation helpers for tests.

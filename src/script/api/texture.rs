@@ -28,8 +28,9 @@ use super::properties::unknown_name;
 use crate::scene::format::{TextureDesc, TextureKindDesc};
 use crate::scene::locate::FieldPath;
 use crate::scene::texture::check_textures;
-use crate::script::state::{ScriptState, SharedState};
-use crate::script::texture::TextureState;
+use crate::script::lent::{Lent, LentWorld};
+use crate::texture::UvTransform;
+use crate::world::resources::Textures;
 
 /// Texture properties scripts can write.
 pub const TEXTURE_PROPERTIES: &[&str] = &["offset", "scale", "rotation"];
@@ -37,59 +38,65 @@ pub const TEXTURE_PROPERTIES: &[&str] = &["offset", "scale", "rotation"];
 /// Handle on one named texture.
 #[derive(Clone)]
 pub struct TextureHandle {
-    state: SharedState,
+    lent: LentWorld,
     index: usize,
+    name: ImmutableString,
+}
+
+/// The scene's texture names, in table order (none without a texture table).
+fn names(lent: &mut Lent) -> ScriptResult<Vec<String>> {
+    Ok(lent.scene()?.world.get_resource::<Textures>().map(|t| t.names.clone()).unwrap_or_default())
 }
 
 /// Registers `texture(name)`, `has_texture(name)`, `texture_names()` and the texture handle's
-/// properties over `state`.
-pub fn register(engine: &mut Engine, state: &SharedState) {
+/// properties over the World `lent` holds during calls.
+pub fn register(engine: &mut Engine, lent: &LentWorld) {
     engine.register_type_with_name::<TextureHandle>("texture");
-    let s = state.clone();
+    let l = lent.clone();
     engine.register_fn("texture", move |name: ImmutableString| -> ScriptResult<TextureHandle> {
-        let index = find(&s.lock(), &name)?;
-        Ok(TextureHandle { state: s.clone(), index })
+        let index = find(&names(&mut l.lock())?, &name)?;
+        Ok(TextureHandle { lent: l.clone(), index, name })
     });
-    let s = state.clone();
-    engine.register_fn("has_texture", move |name: ImmutableString| s.lock().texture_index(&name).is_some());
-    let s = state.clone();
-    engine.register_fn("texture_names", move || -> Array {
-        s.lock().textures.iter().map(|t| Dynamic::from(t.name.clone())).collect()
+    let l = lent.clone();
+    engine.register_fn("has_texture", move |name: ImmutableString| -> ScriptResult<bool> {
+        Ok(names(&mut l.lock())?.iter().any(|n| *n == name))
     });
-    engine.register_fn("to_string", |t: &mut TextureHandle| {
-        format!("texture(\"{}\")", t.read(|e| e.name.clone()))
+    let l = lent.clone();
+    engine.register_fn("texture_names", move || -> ScriptResult<Array> {
+        Ok(names(&mut l.lock())?.into_iter().map(Dynamic::from).collect())
     });
-    engine.register_get("name", |t: &mut TextureHandle| t.read(|e| e.name.clone()));
+    engine.register_fn("to_string", |t: &mut TextureHandle| format!("texture(\"{}\")", t.name));
+    engine.register_get("name", |t: &mut TextureHandle| t.name.to_string());
 
-    engine.register_get("offset", |t: &mut TextureHandle| t.read(|e| e.offset.extend(0.0)));
+    engine.register_get("offset", |t: &mut TextureHandle| t.read(|u| u.offset.as_dvec2().extend(0.0)));
     engine.register_set("offset", |t: &mut TextureHandle, v: Dynamic| -> ScriptResult<()> {
-        t.write("offset", |entry, what| {
-            entry.offset = uv_pair(&v, what, false)?;
+        t.write("offset", |u, what| {
+            u.offset = uv_pair(&v, what, false)?.as_vec2();
             Ok(())
         })
     });
-    engine.register_get("scale", |t: &mut TextureHandle| t.read(|e| e.scale.extend(0.0)));
+    engine.register_get("scale", |t: &mut TextureHandle| t.read(|u| u.scale.as_dvec2().extend(0.0)));
     engine.register_set("scale", |t: &mut TextureHandle, v: Dynamic| -> ScriptResult<()> {
-        t.write("scale", |entry, what| {
-            entry.scale = uv_pair(&v, what, true)?;
+        t.write("scale", |u, what| {
+            u.scale = uv_pair(&v, what, true)?.as_vec2();
             Ok(())
         })
     });
-    engine.register_get("rotation", |t: &mut TextureHandle| t.read(|e| e.rotation_deg));
+    engine.register_get("rotation", |t: &mut TextureHandle| t.read(|u| f64::from(u.rotate_deg)));
     engine.register_set("rotation", |t: &mut TextureHandle, v: Dynamic| -> ScriptResult<()> {
-        t.write("rotation", |entry, what| {
-            entry.rotation_deg = number(&v, what)?;
+        t.write("rotation", |u, what| {
+            u.rotate_deg = number(&v, what)? as f32;
             Ok(())
         })
     });
 }
 
-/// The index of the texture called `name`, or an error that suggests the closest name and
-/// lists the names there are.
-fn find(state: &ScriptState, name: &str) -> ScriptResult<usize> {
-    match state.texture_index(name) {
+/// The index of the texture called `name` among `names`, or an error that suggests the
+/// closest name and lists the names there are.
+fn find(names: &[String], name: &str) -> ScriptResult<usize> {
+    match names.iter().position(|n| n == name) {
         Some(index) => Ok(index),
-        None => error(unknown_name("texture", name, state.textures.iter().map(|t| t.name.as_str()))),
+        None => error(unknown_name("texture", name, names.iter().map(String::as_str))),
     }
 }
 
@@ -117,12 +124,11 @@ fn uv_pair(value: &Dynamic, what: &str, uniform: bool) -> ScriptResult<DVec2> {
     error(format!("{what} must be {expected}, got {}", type_name(value)))
 }
 
-/// Checks a texture's transform with the scene format's rules for `textures` (in the `f32`
-/// the renderer uses); the error names the texture and `field`.
-fn check(entry: &TextureState, field: &str) -> ScriptResult<()> {
-    let t = entry.transform();
+/// Checks a texture's transform with the scene format's rules for `textures`; the error
+/// names the texture and `field`.
+fn check(name: &str, t: &UvTransform, field: &str) -> ScriptResult<()> {
     let desc = TextureDesc {
-        name: entry.name.clone(),
+        name: name.to_owned(),
         kind: TextureKindDesc::Checker { a: Vec3::ONE, b: Vec3::ZERO },
         scale: t.scale,
         offset: t.offset,
@@ -130,29 +136,47 @@ fn check(entry: &TextureState, field: &str) -> ScriptResult<()> {
     };
     match check_textures(&FieldPath::root(), std::slice::from_ref(&desc)) {
         Ok(()) => Ok(()),
-        Err(v) => error(format!("texture `{}`: {field} {}", entry.name, v.rule)),
+        Err(v) => error(format!("texture `{name}`: {field} {}", v.rule)),
     }
 }
 
 impl TextureHandle {
-    fn read<T>(&self, f: impl FnOnce(&TextureState) -> T) -> T {
-        f(&self.state.lock().textures[self.index])
+    fn read<T>(&self, f: impl FnOnce(&UvTransform) -> T) -> ScriptResult<T> {
+        let mut lent = self.lent.lock();
+        let scene = lent.scene()?;
+        match scene.world.get_resource::<Textures>().and_then(|t| t.table.get(self.index)) {
+            Some(texture) => Ok(f(texture.transform())),
+            None => error(format!("texture `{}` is not in the scene", self.name)),
+        }
     }
 
     /// Sets `field` with `set` (given ``texture `name`: field`` for its errors), keeping the
-    /// new transform only if the scene format's rules accept it.
+    /// new transform only if the scene format's rules accept it. The table is replaced (a new
+    /// `Arc`, the other textures shared) only when the transform differs from the table's in
+    /// the `f32` the tracer uses, so a frame that writes the values already there keeps the
+    /// same bits in every snapshot.
     fn write(
         &self,
         field: &str,
-        set: impl FnOnce(&mut TextureState, &str) -> ScriptResult<()>,
+        set: impl FnOnce(&mut UvTransform, &str) -> ScriptResult<()>,
     ) -> ScriptResult<()> {
-        let mut state = self.state.lock();
-        let entry = &mut state.textures[self.index];
-        let what = format!("texture `{}`: {field}", entry.name);
-        let mut next = entry.clone();
+        let what = format!("texture `{}`: {field}", self.name);
+        let mut next = self.read(|u| *u)?;
         set(&mut next, &what)?;
-        check(&next, field)?;
-        *entry = TextureState { dirty: true, ..next };
+        check(&self.name, &next, field)?;
+        let mut lent = self.lent.lock();
+        let mut scene = lent.scene()?;
+        let index = self.index;
+        let unchanged =
+            scene.world.get_resource::<Textures>().and_then(|t| t.table.get(index)).map(|t| *t.transform());
+        if unchanged == Some(next) {
+            return Ok(());
+        }
+        scene.change_resource(|textures: &mut Textures| {
+            let mut table = textures.table.to_vec();
+            table[index] = table[index].with_transform(next);
+            textures.table = table.into();
+        });
         Ok(())
     }
 }
@@ -183,20 +207,18 @@ mod tests {
 
     #[test]
     fn the_scene_formats_rules_apply_in_f32() {
-        let entry = |offset: DVec2, scale: DVec2, rotation_deg: f64| TextureState {
-            name: "w".into(),
-            offset,
-            scale,
-            rotation_deg,
-            dirty: false,
+        let uv = |offset: DVec2, scale: DVec2, rotation_deg: f64| UvTransform {
+            offset: offset.as_vec2(),
+            scale: scale.as_vec2(),
+            rotate_deg: rotation_deg as f32,
         };
-        assert!(check(&entry(DVec2::new(0.5, 3.0), DVec2::ONE, 45.0), "offset").is_ok());
-        let e = check(&entry(DVec2::new(f64::NAN, 0.0), DVec2::ONE, 0.0), "offset").unwrap_err();
+        assert!(check("w", &uv(DVec2::new(0.5, 3.0), DVec2::ONE, 45.0), "offset").is_ok());
+        let e = check("w", &uv(DVec2::new(f64::NAN, 0.0), DVec2::ONE, 0.0), "offset").unwrap_err();
         assert!(e.to_string().contains("texture `w`: offset must be a finite number"), "{e}");
         // Finite in f64, infinite in f32.
-        assert!(check(&entry(DVec2::new(1e300, 0.0), DVec2::ONE, 0.0), "offset").is_err());
-        let e = check(&entry(DVec2::ZERO, DVec2::new(1.0, 1e-50), 0.0), "scale").unwrap_err();
+        assert!(check("w", &uv(DVec2::new(1e300, 0.0), DVec2::ONE, 0.0), "offset").is_err());
+        let e = check("w", &uv(DVec2::ZERO, DVec2::new(1.0, 1e-50), 0.0), "scale").unwrap_err();
         assert!(e.to_string().contains("texture `w`: scale must be non-zero in every component"), "{e}");
-        assert!(check(&entry(DVec2::ZERO, DVec2::ONE, f64::INFINITY), "rotation").is_err());
+        assert!(check("w", &uv(DVec2::ZERO, DVec2::ONE, f64::INFINITY), "rotation").is_err());
     }
 }
