@@ -82,6 +82,32 @@ pub struct SceneFile {
     pub objects: Vec<ObjectDesc>,
 }
 
+impl SceneFile {
+    /// The tracer's settings this file gives: its `settings`, and the camera's image size,
+    /// lens, time samples and shutter (frame 0, SIMD level `auto`).
+    pub fn render_settings(&self) -> crate::trace::RenderSettings {
+        let (c, s) = (&self.camera, &self.settings);
+        crate::trace::RenderSettings {
+            width: c.width,
+            height: c.height,
+            max_depth: s.max_depth,
+            min_contribution: s.min_contribution,
+            seed: s.seed,
+            frame: 0,
+            aa: s.aa,
+            adaptive: s.adaptive,
+            noise: s.noise,
+            lens: c.lens,
+            glossy: s.glossy,
+            max_secondary_rays: s.max_secondary_rays,
+            simd: crate::simd::SimdLevel::Auto,
+            // Validated on load: `0 <= open <= close <= 1`.
+            shutter: c.shutter.and_then(|(open, close)| crate::camera::Shutter::new(open, close).ok()),
+            time: c.time,
+        }
+    }
+}
+
 /// The camera: where it is, where it looks and the image it makes.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -35,6 +35,37 @@ pub use camera::{camera_samples_violation, lens_rule, lens_violation};
 pub use extent::{extent_excess, extent_rule, light_extent_violation, object_violation, Extent, Placement};
 pub use radiance::{radiance_violation, RadianceBudget};
 
+/// What the camera-samples and radiance rules read of a scene: its render settings (sample
+/// counts, depth), the lens radius, and the terms a pixel's radiance sums — background,
+/// ambient and each light's colour and intensity, in the scene's order. A scene file gives
+/// them ([`PixelTerms::of`]), and so does a script's World, so both apply the same rules.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PixelTerms {
+    /// Sample counts, adaptive and noise-driven sampling, depth.
+    pub render: crate::trace::RenderSettings,
+    /// Lens radius (lens samples count only with one).
+    pub aperture: f32,
+    /// Colour of escaping rays.
+    pub background: glam::Vec3,
+    /// Ambient light.
+    pub ambient: glam::Vec3,
+    /// Each light's colour and intensity.
+    pub lights: Vec<(glam::Vec3, f32)>,
+}
+
+impl PixelTerms {
+    /// The terms of a scene file.
+    pub fn of(scene: &super::format::SceneFile) -> Self {
+        Self {
+            render: scene.render_settings(),
+            aperture: scene.camera.aperture,
+            background: scene.settings.background,
+            ambient: scene.settings.ambient,
+            lights: scene.lights.iter().map(|l| l.terms()).collect(),
+        }
+    }
+}
+
 /// Largest radiance a pixel may sum, in any channel, before dividing by its sample count.
 /// Film sums are 32-bit floats (largest ≈ 3.4e38); 1e29 leaves room for the Phong bracket
 /// (≤ 2: `kd` ≤ 1 plus `ks` ≤ 1 times a highlight that [`super::rules::MAX_SHININESS`]
@@ -61,10 +92,11 @@ pub fn check(scene: &SceneDesc) -> Result<(), Violation> {
     if let Some(v) = lens_violation(&scene.camera) {
         return Err(under(&root.clone().field("camera"), v));
     }
-    if let Some(v) = camera_samples_violation(scene) {
+    let terms = PixelTerms::of(scene);
+    if let Some(v) = camera_samples_violation(&terms) {
         return Err(v);
     }
-    if let Some(v) = radiance_violation(scene) {
+    if let Some(v) = radiance_violation(&terms) {
         return Err(v);
     }
     for (i, light) in scene.lights.iter().enumerate() {

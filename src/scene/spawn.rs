@@ -12,7 +12,7 @@ use crate::geom;
 use crate::math::Vec3;
 use crate::sample::warp::orthonormal_basis;
 use crate::store::{MaterialId, PrimitiveStore};
-use crate::trace::{self, RenderSettings};
+use crate::trace;
 use crate::world::components::{
     Light, LightTerms, MaterialRef, Name, Shape, Transform, Visible, WorldAabb, WorldShape,
 };
@@ -42,24 +42,7 @@ pub fn spawn_world<S: PrimitiveStore + 'static>(desc: &SceneDesc) -> SceneWorld<
     });
     let s = &desc.settings;
     world.insert_resource(SceneSettings {
-        render: RenderSettings {
-            width: c.width,
-            height: c.height,
-            max_depth: s.max_depth,
-            min_contribution: s.min_contribution,
-            seed: s.seed,
-            frame: 0,
-            aa: s.aa,
-            adaptive: s.adaptive,
-            noise: s.noise,
-            lens: c.lens,
-            glossy: s.glossy,
-            max_secondary_rays: s.max_secondary_rays,
-            simd: crate::simd::SimdLevel::Auto,
-            // Validated on load: `0 <= open <= close <= 1`.
-            shutter: c.shutter.and_then(|(open, close)| crate::camera::Shutter::new(open, close).ok()),
-            time: c.time,
-        },
+        render: desc.file.render_settings(),
         background: s.background,
         ambient: s.ambient,
         lambda: DEFAULT_LAMBDA,

@@ -3,9 +3,10 @@
 
 use glam::DVec3;
 
+use super::PixelTerms;
 use super::{beyond, violation, MAX_CAMERA_SAMPLES};
 use crate::scene::error::number as num;
-use crate::scene::format::{CameraDesc, SceneFile};
+use crate::scene::format::CameraDesc;
 use crate::scene::rules::MAX_COORDINATE;
 use crate::scene::validate::Violation;
 
@@ -56,19 +57,19 @@ pub fn lens_rule(
 /// × `camera.time.samples` ≤ [`MAX_CAMERA_SAMPLES`], reported at `camera.time.samples` (the
 /// only factor that can push the product past it). Adaptive renders trace at most
 /// `camera.time.samples` rays per lattice point, so only the time samples count there.
-pub fn camera_samples_violation(scene: &SceneFile) -> Option<Violation> {
-    let camera = &scene.camera;
-    let lens = if camera.aperture > 0.0 { u64::from(camera.lens.samples) } else { 1 };
-    let per_position = match scene.settings.adaptive {
+pub fn camera_samples_violation(terms: &PixelTerms) -> Option<Violation> {
+    let r = &terms.render;
+    let lens = if terms.aperture > 0.0 { u64::from(r.lens.samples) } else { 1 };
+    let per_position = match r.adaptive {
         Some(_) => 1,
-        None => u64::from(scene.settings.aa.samples) * lens,
+        None => u64::from(r.aa.samples) * lens,
     };
-    let n = per_position * u64::from(camera.time.samples);
+    let n = per_position * u64::from(r.time.samples);
     (n > MAX_CAMERA_SAMPLES).then(|| {
         let rule = format!(
             "a pixel takes settings.aa.samples {} × camera.lens.samples {lens} (with camera.aperture > 0) \
              × camera.time.samples {} = {n} camera samples, more than {MAX_CAMERA_SAMPLES}; lower one of them",
-            scene.settings.aa.samples, camera.time.samples
+            r.aa.samples, r.time.samples
         );
         violation("camera.time.samples", rule)
     })

@@ -1,11 +1,11 @@
 //! The radiance rule: what a pixel can sum ([`RadianceBudget`]) stays within
 //! [`MAX_RADIANCE_SUM`], and the term to blame when it does not.
 
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 
+use super::PixelTerms;
 use super::MAX_RADIANCE_SUM;
 use crate::scene::error::number as num;
-use crate::scene::format::{LightDesc, SceneFile};
 use crate::scene::locate::FieldPath;
 use crate::scene::validate::Violation;
 
@@ -24,8 +24,8 @@ pub struct RadianceBudget {
 
 impl RadianceBudget {
     /// The budget of `scene` (its settings, camera and lights).
-    pub fn of(scene: &SceneFile) -> Self {
-        let s = &scene.settings;
+    pub fn of(terms: &PixelTerms) -> Self {
+        let s = &terms.render;
         let mut parts = Vec::new();
         let camera = match s.adaptive {
             Some(_) => {
@@ -35,12 +35,9 @@ impl RadianceBudget {
             None => {
                 parts.push(format!("settings.aa.samples {}", s.aa.samples));
                 let mut n = f64::from(s.aa.samples);
-                if scene.camera.aperture > 0.0 {
-                    parts.push(format!(
-                        "camera.lens.samples {} (camera.aperture > 0)",
-                        scene.camera.lens.samples
-                    ));
-                    n *= f64::from(scene.camera.lens.samples);
+                if terms.aperture > 0.0 {
+                    parts.push(format!("camera.lens.samples {} (camera.aperture > 0)", s.lens.samples));
+                    n *= f64::from(s.lens.samples);
                 }
                 if let Some(noise) = &s.noise {
                     // Pixels sum whole batches; the last may pass max_samples by up to one batch.
@@ -55,7 +52,7 @@ impl RadianceBudget {
             }
         };
         // Time samples multiply the camera samples (and a lattice point's) where something moves.
-        let camera = match scene.camera.time.samples {
+        let camera = match s.time.samples {
             1 => camera,
             n => {
                 parts.push(format!("camera.time.samples {n}"));
@@ -65,8 +62,8 @@ impl RadianceBudget {
         parts.push(format!("settings.glossy.samples {}", s.glossy.samples));
         parts.push(format!("(settings.max_depth {} + 1)", s.max_depth));
         let values = camera * f64::from(s.glossy.samples) * (f64::from(s.max_depth) + 1.0);
-        let lights: DVec3 = scene.lights.iter().map(light_radiance).sum();
-        let per_value = s.background.as_dvec3() + s.ambient.as_dvec3() + 2.0 * lights;
+        let lights: DVec3 = terms.lights.iter().map(light_radiance).sum();
+        let per_value = terms.background.as_dvec3() + terms.ambient.as_dvec3() + 2.0 * lights;
         Self { values, values_text: parts.join(" × "), per_value }
     }
 
@@ -78,8 +75,7 @@ impl RadianceBudget {
 }
 
 /// A light's colour × intensity, in 64-bit floats (it may overflow 32-bit ones).
-fn light_radiance(light: &LightDesc) -> DVec3 {
-    let (colour, intensity) = light.terms();
+fn light_radiance(&(colour, intensity): &(Vec3, f32)) -> DVec3 {
     colour.as_dvec3() * f64::from(intensity)
 }
 
@@ -87,15 +83,14 @@ const CHANNELS: [&str; 3] = ["r", "g", "b"];
 
 /// The radiance rule: a violation at the term that contributes most to the worst channel
 /// (`settings.background`, `settings.ambient` or `lights[i].intensity` / `.colour`).
-pub fn radiance_violation(scene: &SceneFile) -> Option<Violation> {
-    let budget = RadianceBudget::of(scene);
+pub fn radiance_violation(terms: &PixelTerms) -> Option<Violation> {
+    let budget = RadianceBudget::of(terms);
     let (sum, c) = budget.worst();
     if sum <= MAX_RADIANCE_SUM {
         return None;
     }
-    let s = &scene.settings;
-    let (background, ambient) = (f64::from(s.background[c]), f64::from(s.ambient[c]));
-    let lights: Vec<f64> = scene.lights.iter().map(|l| light_radiance(l)[c]).collect();
+    let (background, ambient) = (f64::from(terms.background[c]), f64::from(terms.ambient[c]));
+    let lights: Vec<f64> = terms.lights.iter().map(|l| light_radiance(l)[c]).collect();
     let light_sum: f64 = lights.iter().sum();
     let channel = CHANNELS[c];
     let budget_text = format!(
@@ -114,7 +109,7 @@ pub fn radiance_violation(scene: &SceneFile) -> Option<Violation> {
     let brightest = lights.iter().copied().enumerate().fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
     let (path, what) = if 2.0 * brightest.1 >= background.max(ambient) {
         let (i, radiance) = brightest;
-        let (colour, intensity) = scene.lights[i].terms();
+        let (colour, intensity) = terms.lights[i];
         let field = if intensity >= colour.max_element() { "intensity" } else { "colour" };
         let path = FieldPath::root().field("lights").index(i).field(field);
         let (colour, intensity, radiance) = (num(colour[c].into()), num(intensity.into()), num(radiance));

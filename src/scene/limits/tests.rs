@@ -62,14 +62,14 @@ fn the_radiance_budget_counts_every_summed_sample() {
     scene.settings.glossy.samples = 8;
     scene.settings.max_depth = 4;
     scene.camera.aperture = 0.0;
-    let budget = RadianceBudget::of(&scene);
+    let budget = RadianceBudget::of(&PixelTerms::of(&scene));
     assert_eq!(budget.values, 4.0 * 8.0 * 5.0);
     scene.camera.aperture = 0.1;
     scene.camera.lens.samples = 3;
-    assert_eq!(RadianceBudget::of(&scene).values, 4.0 * 3.0 * 8.0 * 5.0);
-    assert_eq!(radiance_violation(&scene), None);
+    assert_eq!(RadianceBudget::of(&PixelTerms::of(&scene)).values, 4.0 * 3.0 * 8.0 * 5.0);
+    assert_eq!(radiance_violation(&PixelTerms::of(&scene)), None);
     scene.settings.background = Vec3::new(0.0, 3e38, 0.0);
-    let v = radiance_violation(&scene).expect("3e38 overflows");
+    let v = radiance_violation(&PixelTerms::of(&scene)).expect("3e38 overflows");
     assert_eq!(v.path.to_string(), "settings.background");
     assert!(v.rule.contains("g = 3e38 is too bright"), "{}", v.rule);
     assert!(v.rule.contains("must stay ≤ 1e29"), "{}", v.rule);
@@ -84,7 +84,7 @@ fn the_brightest_light_is_named() {
         intensity: 3e38,
         falloff: Default::default(),
     });
-    let v = radiance_violation(&scene).expect("3e39 overflows");
+    let v = radiance_violation(&PixelTerms::of(&scene)).expect("3e39 overflows");
     assert_eq!(v.path.to_string(), format!("lights[{}].intensity", scene.lights.len() - 1));
     assert!(v.rule.contains("colour × intensity = 10 × 3e38 = 3e39 in r is too bright"), "{}", v.rule);
 }
@@ -93,9 +93,13 @@ fn the_brightest_light_is_named() {
 fn camera_samples_must_fit_32_bits_and_blame_the_time_samples() {
     let mut scene = crate::scene::default_scene();
     (scene.settings.aa.samples, scene.camera.time.samples) = (4096, 4096);
-    assert_eq!(camera_samples_violation(&scene), None, "a pinhole at 4096 × 4096 is the limit");
+    assert_eq!(
+        camera_samples_violation(&PixelTerms::of(&scene)),
+        None,
+        "a pinhole at 4096 × 4096 is the limit"
+    );
     (scene.camera.aperture, scene.camera.lens.samples) = (0.1, 2);
-    let v = camera_samples_violation(&scene).expect("the lens counts with an aperture");
+    let v = camera_samples_violation(&PixelTerms::of(&scene)).expect("the lens counts with an aperture");
     assert_eq!(v.path.to_string(), "camera.time.samples");
     assert!(
         v.rule.contains("× camera.time.samples 4096 = 33554432 camera samples, more than 16777216"),
@@ -103,7 +107,11 @@ fn camera_samples_must_fit_32_bits_and_blame_the_time_samples() {
         v.rule
     );
     scene.settings.adaptive = Some(crate::scene::AdaptiveSettings { threshold: 0.1, max_depth: 3 });
-    assert_eq!(camera_samples_violation(&scene), None, "a lattice point takes only the times");
+    assert_eq!(
+        camera_samples_violation(&PixelTerms::of(&scene)),
+        None,
+        "a lattice point takes only the times"
+    );
     scene.settings.adaptive = None;
     assert_eq!(check(&scene).unwrap_err().path.to_string(), "camera.time.samples");
 }

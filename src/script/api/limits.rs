@@ -1,16 +1,15 @@
 //! The scene format's combined rules ([`crate::scene::limits`]) applied to script writes, on
-//! the script's whole view of the scene, so that a write that breaks one fails at its own line:
+//! the World as the write leaves it, so that a write that breaks one fails at its own line:
 //! moving or scaling an object beyond ±1e18 in world space, a lens or focus point beyond it,
 //! and light, sample counts or depth that would let a pixel's radiance sum overflow.
 
 use bevy_ecs::prelude::{Entity, World};
-use glam::DVec3;
 
 use super::convert::{error, ScriptResult};
 use crate::scene::error::number as num;
-use crate::scene::format::{AntiAliasing, CameraDesc, LightDesc, Sampling, SceneFile, SettingsDesc};
 use crate::scene::limits::{
-    camera_samples_violation, extent_excess, extent_rule, lens_rule, radiance_violation, Extent, Placement,
+    camera_samples_violation, extent_excess, extent_rule, lens_rule, radiance_violation, Extent, PixelTerms,
+    Placement,
 };
 use crate::scene::locate::Segment;
 use crate::script::lent::{kind, EntityKind};
@@ -56,62 +55,27 @@ pub fn extent(world: &World, entity: Entity, what: &str) -> ScriptResult<()> {
     }
 }
 
-/// The camera-samples and radiance rules on the World's settings, camera and lights; `what`
-/// names the write, e.g. `settings.samples` or ``entity `key`: intensity``. The rules are the
-/// scene file's, so they read the parts of a scene file they need.
+/// The camera-samples and radiance rules on the World's settings, camera and lights, as the
+/// scene file has them ([`PixelTerms`]); `what` names the write, e.g. `settings.samples` or
+/// ``entity `key`: intensity``.
 pub fn radiance(world: &World, what: &str) -> ScriptResult<()> {
-    let mut lights: Vec<(Entity, String, LightDesc)> = world
+    let mut lights: Vec<(Entity, &str, LightTerms)> = world
         .iter_entities()
-        .filter_map(|e| {
-            let terms = e.get::<LightTerms>()?;
-            let name = e.get::<Name>().map_or("?", |n| n.as_str()).to_owned();
-            let light = LightDesc::Point {
-                position: DVec3::ZERO,
-                colour: terms.colour,
-                intensity: terms.intensity,
-                falloff: Default::default(),
-            };
-            Some((e.id(), name, light))
-        })
+        .filter_map(|e| Some((e.id(), e.get::<Name>().map_or("?", |n| n.as_str()), *e.get::<LightTerms>()?)))
         .collect();
     lights.sort_unstable_by_key(|(e, _, _)| *e);
-    let s = world.resource::<SceneSettings>();
-    let r = &s.render;
-    let rig = world.resource::<CameraRig>();
-    let camera = CameraDesc {
-        position: rig.position,
-        look_at: rig.look_at,
-        up: rig.up,
-        fov_deg: rig.fov_y.to_degrees(),
-        width: r.width,
-        height: r.height,
-        aperture: rig.aperture,
-        focus_distance: None,
-        focus_on: None,
-        lens: Sampling { samples: r.lens.samples, ..Default::default() },
-        shutter: None,
-        time: Sampling { samples: r.time.samples, ..Default::default() },
+    let settings = world.resource::<SceneSettings>();
+    let terms = PixelTerms {
+        render: settings.render,
+        aperture: world.resource::<CameraRig>().aperture,
+        background: settings.background,
+        ambient: settings.ambient,
+        lights: lights.iter().map(|(_, _, t)| (t.colour, t.intensity)).collect(),
     };
-    let scene = SceneFile {
-        camera,
-        settings: SettingsDesc {
-            max_depth: r.max_depth,
-            background: s.background,
-            ambient: s.ambient,
-            aa: AntiAliasing { samples: r.aa.samples, ..Default::default() },
-            adaptive: r.adaptive,
-            glossy: Sampling { samples: r.glossy.samples, ..Default::default() },
-            ..Default::default()
-        },
-        materials: Vec::new(),
-        textures: Vec::new(),
-        lights: lights.iter().map(|(_, _, l)| l.clone()).collect(),
-        objects: Vec::new(),
-    };
-    if let Some(v) = camera_samples_violation(&scene) {
+    if let Some(v) = camera_samples_violation(&terms) {
         return error(format!("{what}: {}", script_names(&v.rule)));
     }
-    let Some(v) = radiance_violation(&scene) else { return Ok(()) };
+    let Some(v) = radiance_violation(&terms) else { return Ok(()) };
     let rule = script_names(&v.rule);
     let field = v.path.to_string();
     let who = match v.path.segments() {
