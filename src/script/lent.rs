@@ -254,6 +254,19 @@ impl LentWorld {
         self.0.lock().unwrap_or_else(PoisonError::into_inner)
     }
 
+    /// Locks the handle for an API function that may fail: a lock already held (an API
+    /// function reaching the World again while it holds it, a bug) is an error rather than a
+    /// deadlock.
+    pub fn get(&self) -> ScriptResult<MutexGuard<'_, Lent>> {
+        match self.0.try_lock() {
+            Ok(lent) => Ok(lent),
+            Err(std::sync::TryLockError::Poisoned(p)) => Ok(p.into_inner()),
+            Err(std::sync::TryLockError::WouldBlock) => {
+                error("internal error: the scene is already being read or written by this call")
+            }
+        }
+    }
+
     /// Lends `world` to the script for the length of `call` and takes it back; returns what
     /// `call` returned and what it wrote. `quiet`: the writes are to be undone (a pose at
     /// shutter close), so they leave the World's change ticks alone.

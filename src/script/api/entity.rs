@@ -43,7 +43,7 @@ pub fn register(engine: &mut Engine, lent: &LentWorld) {
     engine.register_type_with_name::<EntityHandle>("entity");
     let l = lent.clone();
     engine.register_fn("entity", move |name: ImmutableString| -> ScriptResult<EntityHandle> {
-        let entity = find(&l.lock(), &name)?;
+        let entity = find(&*l.get()?, &name)?;
         Ok(EntityHandle { lent: l.clone(), entity, name })
     });
     let l = lent.clone();
@@ -92,7 +92,7 @@ fn register_placement(engine: &mut Engine) {
     });
     engine.register_set("position", |e: &mut EntityHandle, v: Dynamic| -> ScriptResult<()> {
         let what = format!("entity `{}`: position", e.name);
-        let mut lent = e.lent.lock();
+        let mut lent = e.lent.get()?;
         let mut scene = lent.scene()?;
         match kind(scene.world, e.entity) {
             Some(EntityKind::Light { positioned: false }) => {
@@ -117,7 +117,7 @@ fn register_placement(engine: &mut Engine) {
     engine.register_set("rotation", |e: &mut EntityHandle, v: Dynamic| -> ScriptResult<()> {
         let what = format!("entity `{}`: rotation", e.name);
         let rotation = finite_vec(vector(&v, &what)?, &what)?;
-        let mut lent = e.lent.lock();
+        let mut lent = e.lent.get()?;
         let mut scene = lent.scene()?;
         e.transform(scene.world, e.entity, "rotation")?;
         e.place(&mut scene, &what, |t| t.rotation = rotation_from_degrees(rotation))
@@ -127,7 +127,7 @@ fn register_placement(engine: &mut Engine) {
     });
     engine.register_set("scale", |e: &mut EntityHandle, v: Dynamic| -> ScriptResult<()> {
         let what = format!("entity `{}`: scale", e.name);
-        let mut lent = e.lent.lock();
+        let mut lent = e.lent.get()?;
         let mut scene = lent.scene()?;
         e.transform(scene.world, e.entity, "scale")?;
         let uniform =
@@ -150,7 +150,7 @@ fn register_placement(engine: &mut Engine) {
         e.read(|world, entity| Ok(world.get::<Visible>(entity).is_none_or(|v| v.0)))
     });
     engine.register_set("visible", |e: &mut EntityHandle, v: bool| -> ScriptResult<()> {
-        e.lent.lock().scene()?.set(e.entity, Visible(v), |_| Ok(()))
+        e.lent.get()?.scene()?.set(e.entity, Visible(v), |_| Ok(()))
     });
 }
 
@@ -191,7 +191,7 @@ fn register_material(engine: &mut Engine) {
 
 impl EntityHandle {
     fn read<T>(&self, f: impl FnOnce(&World, Entity) -> ScriptResult<T>) -> ScriptResult<T> {
-        let mut lent = self.lent.lock();
+        let mut lent = self.lent.get()?;
         let scene = lent.scene()?;
         f(scene.world, self.entity)
     }
@@ -241,7 +241,7 @@ impl EntityHandle {
         rule: Rule,
         set: impl FnOnce(&mut Material, Vec3),
     ) -> ScriptResult<()> {
-        let mut lent = self.lent.lock();
+        let mut lent = self.lent.get()?;
         let mut scene = lent.scene()?;
         let (mut material, tint) = self.material(scene.world, self.entity)?;
         obeys(rule, &format!("entity `{}`: {field}", self.name))?;
@@ -266,7 +266,7 @@ impl EntityHandle {
     /// and its radiance to their product, if the scene's radiance rule still holds.
     fn relight(&self, field: &str, next: impl FnOnce(LightTerms) -> LightTerms) -> ScriptResult<()> {
         let what = format!("entity `{}`: {field}", self.name);
-        let mut lent = self.lent.lock();
+        let mut lent = self.lent.get()?;
         let mut scene = lent.scene()?;
         let terms = next(self.terms(scene.world, self.entity, field)?);
         scene.set(self.entity, terms, |world| limits::radiance(world, &what))?;

@@ -105,7 +105,7 @@ fn register_camera(engine: &mut Engine) {
         let aperture = finite(&v, "camera.aperture")?;
         obeys(fields::non_negative(aperture as f32), "camera.aperture:")?;
         let rig = CameraRig { aperture: aperture as f32, ..c.rig()? };
-        let mut lent = c.0.lock();
+        let mut lent = c.0.get()?;
         let mut scene = lent.scene()?;
         scene.set_resource(rig, |world| {
             limits::lens(world).and_then(|()| limits::radiance(world, "camera.aperture"))
@@ -114,17 +114,17 @@ fn register_camera(engine: &mut Engine) {
         Ok(())
     });
     engine.register_get("focus_distance", |c: &mut CameraHandle| -> ScriptResult<FLOAT> {
-        let mut lent = c.0.lock();
+        let mut lent = c.0.get()?;
         Ok(f64::from(resolved_rig(lent.scene()?.world).focus_distance()))
     });
     engine.register_set("focus_distance", |c: &mut CameraHandle, v: Dynamic| -> ScriptResult<()> {
         let distance = finite(&v, "camera.focus_distance")?;
         obeys(fields::positive(distance as f32), "camera.focus_distance:")?;
         c.write(|rig| rig.focus = Focus::Distance(distance as f32))?;
-        c.0.lock().scene()?.set_resource(FocusOn(None), |_| Ok(()))
+        c.0.get()?.scene()?.set_resource(FocusOn(None), |_| Ok(()))
     });
     engine.register_fn("focus_on", |c: &mut CameraHandle, name: ImmutableString| -> ScriptResult<()> {
-        let mut lent = c.0.lock();
+        let mut lent = c.0.get()?;
         let entity = super::entity::find(&lent, &name)?;
         let mut scene = lent.scene()?;
         scene.set_resource(FocusOn(Some(entity)), |_| Ok(()))?;
@@ -136,7 +136,7 @@ fn register_camera(engine: &mut Engine) {
 impl CameraHandle {
     /// The rig as the World holds it.
     fn rig(&self) -> ScriptResult<CameraRig> {
-        Ok(*self.0.lock().scene()?.world.resource::<CameraRig>())
+        Ok(*self.0.get()?.scene()?.world.resource::<CameraRig>())
     }
 
     fn read<T>(&self, f: impl FnOnce(&CameraRig) -> T) -> ScriptResult<T> {
@@ -147,7 +147,7 @@ impl CameraHandle {
     fn write(&self, change: impl FnOnce(&mut CameraRig)) -> ScriptResult<()> {
         let mut rig = self.rig()?;
         change(&mut rig);
-        let mut lent = self.0.lock();
+        let mut lent = self.0.get()?;
         let mut scene: Scene = lent.scene()?;
         scene.set_resource(rig, limits::lens)?;
         scene.written.camera = true;

@@ -34,14 +34,14 @@ pub struct SettingsHandle(pub(super) LentWorld);
 
 impl SettingsHandle {
     fn read<T>(&self, f: impl FnOnce(&RenderSettings) -> T) -> ScriptResult<T> {
-        let mut lent = self.0.lock();
+        let mut lent = self.0.get()?;
         Ok(f(&lent.scene()?.world.resource::<SceneSettings>().render))
     }
 
     /// Changes the render settings with `change`, keeping the change only if the scene's
     /// radiance and camera-samples rules still hold; `what` names the write in their errors.
     fn write(&self, what: &str, change: impl FnOnce(&mut RenderSettings)) -> ScriptResult<()> {
-        let mut lent = self.0.lock();
+        let mut lent = self.0.get()?;
         let mut scene = lent.scene()?;
         let mut settings = *scene.world.resource::<SceneSettings>();
         change(&mut settings.render);

@@ -54,16 +54,16 @@ pub fn register(engine: &mut Engine, lent: &LentWorld) {
     engine.register_type_with_name::<TextureHandle>("texture");
     let l = lent.clone();
     engine.register_fn("texture", move |name: ImmutableString| -> ScriptResult<TextureHandle> {
-        let index = find(&names(&mut l.lock())?, &name)?;
+        let index = find(&names(&mut *l.get()?)?, &name)?;
         Ok(TextureHandle { lent: l.clone(), index, name })
     });
     let l = lent.clone();
     engine.register_fn("has_texture", move |name: ImmutableString| -> ScriptResult<bool> {
-        Ok(names(&mut l.lock())?.iter().any(|n| *n == name))
+        Ok(names(&mut *l.get()?)?.iter().any(|n| *n == name))
     });
     let l = lent.clone();
     engine.register_fn("texture_names", move || -> ScriptResult<Array> {
-        Ok(names(&mut l.lock())?.into_iter().map(Dynamic::from).collect())
+        Ok(names(&mut *l.get()?)?.into_iter().map(Dynamic::from).collect())
     });
     engine.register_fn("to_string", |t: &mut TextureHandle| format!("texture(\"{}\")", t.name));
     engine.register_get("name", |t: &mut TextureHandle| t.name.to_string());
@@ -142,7 +142,7 @@ fn check(name: &str, t: &UvTransform, field: &str) -> ScriptResult<()> {
 
 impl TextureHandle {
     fn read<T>(&self, f: impl FnOnce(&UvTransform) -> T) -> ScriptResult<T> {
-        let mut lent = self.lent.lock();
+        let mut lent = self.lent.get()?;
         let scene = lent.scene()?;
         match scene.world.get_resource::<Textures>().and_then(|t| t.table.get(self.index)) {
             Some(texture) => Ok(f(texture.transform())),
@@ -164,7 +164,7 @@ impl TextureHandle {
         let mut next = self.read(|u| *u)?;
         set(&mut next, &what)?;
         check(&self.name, &next, field)?;
-        let mut lent = self.lent.lock();
+        let mut lent = self.lent.get()?;
         let mut scene = lent.scene()?;
         let index = self.index;
         let unchanged =

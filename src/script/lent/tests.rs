@@ -118,3 +118,13 @@ fn the_script_reads_the_focus_distance_the_renderer_uses() {
     assert_eq!(script_reads, renderer);
     assert_eq!(world.resource::<CameraRig>().focus, Focus::Point(centre(&world, object).unwrap()));
 }
+
+#[test]
+fn reaching_the_world_again_while_holding_it_is_an_error_not_a_deadlock() {
+    let lent = LentWorld::new(Vec::new());
+    let held = lent.get().unwrap();
+    let again = lent.get().err().expect("the lock is held");
+    assert!(again.to_string().contains("already being read or written"), "{again}");
+    drop(held);
+    assert!(lent.get().is_ok());
+}
