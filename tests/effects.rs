@@ -185,7 +185,11 @@ fn focal_plane_scene(wall_z: f32, aperture: f32) -> SceneDesc {
 
 #[test]
 fn a_surface_on_the_focal_plane_renders_the_same_with_any_aperture() {
-    let (pinhole, _) = render_desc(&focal_plane_scene(5.0, 0.0));
+    // At AA 1 the 16 lens samples of a pixel take the 16 positions an AA 16 render takes, so on
+    // the focal plane a lens sees what a pinhole with AA 16 sees.
+    let mut pinhole = focal_plane_scene(5.0, 0.0);
+    pinhole.settings.aa.samples = 16;
+    let (pinhole, _) = render_desc(&pinhole);
     for aperture in [0.05, 0.3, 1.0] {
         let (lens, stats) = render_desc(&focal_plane_scene(5.0, aperture));
         assert_eq!(stats.rays.lens, 16 * 48 * 48);
@@ -196,6 +200,19 @@ fn a_surface_on_the_focal_plane_renders_the_same_with_any_aperture() {
     let (sharp, _) = render_desc(&focal_plane_scene(8.0, 0.0));
     let (blurred, _) = render_desc(&focal_plane_scene(8.0, 0.3));
     assert!(sharp.iter().zip(&blurred).any(|(a, b)| (*a - *b).abs().max_element() > 0.2));
+}
+
+#[test]
+fn lens_samples_anti_alias_in_focus_edges_at_aa_1() {
+    // The triangle on the focal plane, its colour's red channel 0.9 (ambient 1): a pinhole at
+    // AA 1 gives each pixel all or nothing of it; a lens at AA 1 with 16 lens samples covers
+    // each pixel with its samples, so pixels the edges cross take values in between.
+    let partial = |pixels: &[Vec3]| pixels.iter().filter(|p| p.x > 0.05 && p.x < 0.85).count();
+    let (pinhole, _) = render_desc(&focal_plane_scene(5.0, 0.0));
+    let (lens, _) = render_desc(&focal_plane_scene(5.0, 0.05));
+    assert_eq!(partial(&pinhole), 0, "a pinhole at AA 1 steps");
+    // The three edges cross about 60 pixels of the 48 × 48 image.
+    assert!(partial(&lens) > 40, "{} partly covered pixels", partial(&lens));
 }
 
 #[test]

@@ -47,6 +47,9 @@ pub(super) struct CameraSampler<'a, S: PrimitiveStore> {
     /// Whether pixels take batches of samples (noise-driven sampling): a single AA sample then
     /// lands anywhere in the pixel instead of at its centre.
     batched: bool,
+    /// One AA position but several camera samples (lens points or times): each camera sample
+    /// then takes a pixel position of its own, so that a lens or a shutter anti-aliases too.
+    spread: bool,
     /// Camera samples per pixel (`n_aa · n_lens · n_time`), and the strata lens points are
     /// drawn from.
     pub(super) n: u32,
@@ -69,6 +72,7 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
             n_lens,
             n_time,
             batched,
+            spread: n_aa == 1 && n > 1,
             n,
             lens_strata: strata(n),
         }
@@ -76,7 +80,8 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
 
     /// Camera sample `sample` of pixel `(x, y)`: its ray (counted as a camera or lens ray), its
     /// key and its time in the shutter interval. Samples `i · n_lens · n_time ..` are AA
-    /// position `i` (through `n_lens` lens points, each at `n_time` times). Where something
+    /// position `i` (through `n_lens` lens points, each at `n_time` times); with one AA
+    /// position, each of several samples takes its own position in the pixel instead. Where something
     /// moves, times are stratified over the pixel's samples (one stratum of `1/n` each, in an
     /// order decorrelated from positions and lens points, placed by the time pattern);
     /// elsewhere every time is 0 and none is drawn.
@@ -111,9 +116,25 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
             pixel,
             sample: dims::PIXEL_PATTERNS - batch,
         };
-        let i = sample / (self.n_lens * self.n_time);
-        let u = uniform2(&patterns, dims::PIXEL, i);
-        let offset = pixel_offset(&settings.aa, self.n_aa, self.aa_strata, i, u, self.batched);
+        let offset = match self.spread {
+            // The n samples take the n positions an AA n render of this pixel takes (the same
+            // strata and points), in an order decorrelated from their lens points and times: a
+            // pinhole at AA n and a lens at AA 1 with n lens samples see the focal plane alike.
+            true => {
+                let k = permute(
+                    sample,
+                    self.n,
+                    Dimension::new(&patterns, dims::PIXEL).hash(dims::PERMUTATION_SEED),
+                );
+                let u = uniform2(&patterns, dims::PIXEL, k);
+                pixel_offset(&settings.aa, self.n, self.lens_strata, k, u, true)
+            }
+            false => {
+                let i = sample / (self.n_lens * self.n_time);
+                let u = uniform2(&patterns, dims::PIXEL, i);
+                pixel_offset(&settings.aa, self.n_aa, self.aa_strata, i, u, self.batched)
+            }
+        };
         let (px, py) = (x as f32 + offset.x, y as f32 + offset.y);
         let time = match scene.motion {
             Some(_) => {
@@ -160,7 +181,8 @@ pub(super) fn stratum_time(pattern: Pattern, k: u32, n: u32, u: f32) -> f32 {
 
 /// Where in the pixel (in pixel units from its top-left corner) sample `i` of `n` lands. A
 /// single sample goes through the pixel's centre, unless `batched`: one of many batches of
-/// noise-driven sampling, which together must cover the footprint.
+/// noise-driven sampling (or one of a lens's samples at AA 1), which together must cover the
+/// footprint.
 pub(super) fn pixel_offset(
     aa: &AntiAliasing,
     n: u32,

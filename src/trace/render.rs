@@ -4,7 +4,8 @@
 //! the camera has an aperture): sample positions come from the anti-aliasing pattern over the
 //! pixel footprint (a box, or a tent two pixels wide), lens points from the lens pattern over
 //! the unit disk, stratified across all of the pixel's samples. One sample per pixel goes
-//! through the pixel centre. With adaptive supersampling the pixel corners are traced once for
+//! through the pixel centre; at AA 1 with several lens (or time) samples, each takes a position
+//! of its own, as AA samples would. With adaptive supersampling the pixel corners are traced once for
 //! the whole image, then each pixel is subdivided where its corners disagree
 //! ([`crate::sample::adaptive`]).
 //!
