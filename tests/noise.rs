@@ -95,8 +95,12 @@ fn the_estimated_error_tracks_the_true_error_and_a_lower_target_costs_more() {
     let reference = rendered(&penumbra_scene(64, 1024), 2).0;
     let mut last: Option<(f64, u64)> = None;
     for target in [0.04, 0.02, 0.01] {
-        let noise =
-            NoiseSettings { target_error: target, min_samples: 4, max_samples: 4096, time_limit: None };
+        let noise = NoiseSettings {
+            target_error: target,
+            min_samples: 4,
+            max_samples: 4096,
+            ..NoiseSettings::default()
+        };
         let (film, stats) = rendered(&with_noise(penumbra_scene(1, 4), noise), 2);
         let truth = rmse(&film, &reference).unwrap();
         let estimate = stats.noise.estimated_rmse;
@@ -130,6 +134,52 @@ fn a_time_limit_stops_after_a_complete_round() {
 }
 
 #[test]
+fn rounds_stop_the_render_and_a_time_limited_render_equals_its_rounds() {
+    let rounds = NoiseSettings { target_error: 0.0, rounds: Some(3), ..NoiseSettings::default() };
+    let (_, stats) = rendered(&with_noise(penumbra_scene(1, 4), rounds), 2);
+    assert_eq!((stats.noise.rounds, stats.noise.stopped_by), (3, NoiseStop::Rounds));
+    // What a time-limited render records of itself renders the same bits.
+    let limited = NoiseSettings { target_error: 0.0, time_limit: Some(1e-9), ..NoiseSettings::default() };
+    let (film, stats) = rendered(&with_noise(penumbra_scene(1, 4), limited), 2);
+    assert_eq!(stats.noise.stopped_by, NoiseStop::TimeLimit);
+    let pinned = NoiseSettings { time_limit: None, rounds: Some(stats.noise.rounds), ..limited };
+    let (again, _) = rendered(&with_noise(penumbra_scene(1, 4), pinned), 1);
+    assert_eq!(bits(&film), bits(&again));
+}
+
+#[test]
+fn a_time_limited_render_records_its_rounds_and_renders_again_exactly() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_penumbra"))
+            .current_dir(dir.path())
+            .args(args)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/effects_soft_shadows.ron");
+    let flags = ["--width", "24", "--target-error", "0", "--noise-samples", "4:65536"];
+    run(&[&["render", scene, "-o", "t.png", "--time-limit", "0.05", "--stats", "s.json"], &flags[..]]
+        .concat());
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("s.json")).unwrap()).unwrap();
+    assert_eq!(json["noise"]["stopped_by"], "time_limit", "{}", json["noise"]);
+    let rounds = json["noise"]["rounds"].as_u64().unwrap();
+    // The image records the rounds it ran, not the machine-dependent limit.
+    let info = run(&["info", "t.png"]);
+    assert!(info.contains(&format!(r#""--noise-rounds","{rounds}""#)), "{info}");
+    assert!(!info.contains("--time-limit"), "{info}");
+    assert!(info.contains(&format!("time_limit: None, rounds: Some({rounds})")), "{info}");
+    run(&["info", "t.png", "--rerender", "t2.png"]);
+    assert_eq!(
+        std::fs::read(dir.path().join("t.png")).unwrap(),
+        std::fs::read(dir.path().join("t2.png")).unwrap()
+    );
+}
+
+#[test]
 fn noise_driven_images_are_the_same_bits_on_one_and_two_threads() {
     let desc =
         with_noise(penumbra_scene(2, 4), NoiseSettings { target_error: 0.01, ..NoiseSettings::default() });
@@ -150,6 +200,7 @@ fn noise_rules_are_refused_with_their_place() {
             "must be in min_samples..=65536",
         ),
         ("noise: (time_limit: 0)", "settings.noise.time_limit", "must be > 0 seconds"),
+        ("noise: (rounds: 0)", "settings.noise.rounds", "must be at least 1"),
         ("adaptive: (threshold: 0.1), noise: ()", "settings.noise", "choose one adaptive mode"),
     ] {
         let e = scene::parse_scene(&base.replace("SETTINGS", settings), "n.ron").unwrap_err().to_string();
@@ -191,6 +242,8 @@ fn the_command_line_turns_it_on_and_reports_it() {
         (&["--target-error", "2"][..], "expected a target error in [0, 1]"),
         (&["--noise-samples", "8:4"][..], "1 <= MIN <= MAX <= 65536"),
         (&["--time-limit", "0"][..], "finite and > 0"),
+        (&["--noise-rounds", "0"][..], "--noise-rounds"),
+        (&["--noise-rounds", "2", "--time-limit", "1"][..], "cannot be used with"),
         (&["--target-error", "0.01", "--adaptive", "0.1"][..], "cannot be used with"),
     ] {
         let out = run(&[&["-o", "bad.png"], args].concat());

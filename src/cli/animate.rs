@@ -217,7 +217,7 @@ pub fn run_named(args: &AnimateArgs, argv: &[String], names: Option<(&str, &str)
                 let (film, aovs, mut stats) = render_observed(&snapshot, &settings, wanted, &on_tile);
                 (stats.times.script, stats.times.world_update) = animation.last_timing();
                 args.frame.check_film(&stats, &format!("frame {n}: "))?;
-                let replay = meta::animate_replay(argv, *n);
+                let (settings, replay) = meta::pin_rounds(&settings, &stats, &meta::animate_replay(argv, *n));
                 let metadata = meta::describe(&inputs, &settings, &tone, &replay);
                 let file = job.file_name(*n);
                 {

@@ -2,10 +2,11 @@
 //! command-line arguments that reproduce it.
 
 use penumbra::film::{Metadata, ToneMapping};
+use penumbra::sample::NoiseSettings;
 pub use penumbra::scene::inputs::sha256_hex;
 use penumbra::scene::inputs::{InputRole, Inputs};
 use penumbra::simd::SimdLevel;
-use penumbra::trace::RenderSettings;
+use penumbra::trace::{NoiseStop, RenderSettings, RenderStats};
 
 /// Metadata keys.
 pub const VERSION: &str = "penumbra.version";
@@ -58,6 +59,39 @@ pub fn describe(
     m.set("penumbra.tonemap", format!("{tone:?}"));
     m.set(ARGS, serde_json::Value::from(replay.to_vec()).to_string());
     m
+}
+
+/// What a render records of itself when its time limit stopped it: the rounds it ran, in place
+/// of the limit. The image depends on how many rounds fitted, which depends on the machine;
+/// the rounds do not, so the settings get `noise.rounds` and no time limit, and the replay
+/// arguments lose any `--time-limit` and gain `--noise-rounds R`. Any other render is
+/// recorded as it was asked for.
+pub fn pin_rounds(
+    settings: &RenderSettings,
+    stats: &RenderStats,
+    replay: &[String],
+) -> (RenderSettings, Vec<String>) {
+    let (Some(noise), NoiseStop::TimeLimit) = (settings.noise, stats.noise.stopped_by) else {
+        return (*settings, replay.to_vec());
+    };
+    let rounds = stats.noise.rounds;
+    let noise = NoiseSettings { time_limit: None, rounds: Some(rounds), ..noise };
+    let mut tokens = Vec::with_capacity(replay.len() + 2);
+    let mut given = replay.iter();
+    while let Some(t) = given.next() {
+        match t.as_str() {
+            "--time-limit" => {
+                given.next();
+            }
+            t if t.starts_with("--time-limit=") => {}
+            t => tokens.push(t.to_owned()),
+        }
+    }
+    // An empty replay is a command line that records none (a sweep's variants).
+    if !replay.is_empty() {
+        tokens.extend(["--noise-rounds".to_owned(), rounds.to_string()]);
+    }
+    (RenderSettings { noise: Some(noise), ..*settings }, tokens)
 }
 
 /// The arguments that make frame `frame` of an `animate` command line again: `animate`, then
@@ -127,6 +161,28 @@ mod tests {
 
     fn strings(s: &[&str]) -> Vec<String> {
         s.iter().map(|t| t.to_string()).collect()
+    }
+
+    #[test]
+    fn a_render_stopped_by_its_time_limit_records_its_rounds_instead() {
+        let noise = NoiseSettings { time_limit: Some(2.0), ..NoiseSettings::default() };
+        let settings = RenderSettings { noise: Some(noise), ..RenderSettings::default() };
+        let mut stats = RenderStats::default();
+        (stats.noise.rounds, stats.noise.stopped_by) = (3, NoiseStop::TimeLimit);
+        for replay in [
+            strings(&["s.ron", "--time-limit", "2", "-w", "64"]),
+            strings(&["s.ron", "--time-limit=2", "-w", "64"]),
+        ] {
+            let (pinned, args) = pin_rounds(&settings, &stats, &replay);
+            assert_eq!(args, strings(&["s.ron", "-w", "64", "--noise-rounds", "3"]));
+            let noise = pinned.noise.unwrap();
+            assert_eq!((noise.time_limit, noise.rounds), (None, Some(3)));
+            assert_eq!(RenderSettings { noise: settings.noise, ..pinned }, settings, "nothing else changes");
+        }
+        // A render the limit did not stop is recorded as asked for.
+        stats.noise.stopped_by = NoiseStop::Target;
+        let replay = strings(&["s.ron", "--time-limit", "2"]);
+        assert_eq!(pin_rounds(&settings, &stats, &replay), (settings, replay));
     }
 
     #[test]

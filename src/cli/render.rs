@@ -131,7 +131,8 @@ pub fn run_named(args: &RenderArgs, replay: &[String], scene_name: Option<&str>)
     stats.times.load = (load - stats.times.mesh_grid_build).max(0.0);
 
     args.frame.check_film(&stats, "")?;
-    let metadata = meta::describe(&inputs, &settings, &tone, replay);
+    let (settings, replay) = meta::pin_rounds(&settings, &stats, replay);
+    let metadata = meta::describe(&inputs, &settings, &tone, &replay);
     let started = Instant::now();
     let written = write_image(&film, aovs.as_ref(), &args.output, format, &tone, &metadata)?;
     stats.times.write = started.elapsed().as_secs_f64();

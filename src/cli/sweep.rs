@@ -88,6 +88,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
 
             let params = params_of(set);
             let file = format!("{}.{extension}", file_stem(index, &params));
+            let (settings, _) = meta::pin_rounds(&settings, &stats, &[]);
             let mut metadata = meta::describe(&inputs, &settings, &tone, &[]);
             let values: serde_json::Map<String, serde_json::Value> =
                 params.iter().map(|(k, v)| (k.clone(), v.json())).collect();

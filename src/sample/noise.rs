@@ -40,11 +40,15 @@ pub struct NoiseSettings {
     /// Stop after the last round that fits in this many seconds of tracing (the image is
     /// always complete), finite and > 0; `None`: no limit. Default none.
     pub time_limit: Option<f32>,
+    /// Stop after this many rounds (round 0 included), at least 1; `None`: no limit. Default
+    /// none. A render stopped by its time limit records the rounds it ran here (and no time
+    /// limit) in its provenance, so that it renders again exactly on any machine.
+    pub rounds: Option<u32>,
 }
 
 impl Default for NoiseSettings {
     fn default() -> Self {
-        Self { target_error: 0.01, min_samples: 16, max_samples: 1024, time_limit: None }
+        Self { target_error: 0.01, min_samples: 16, max_samples: 1024, time_limit: None, rounds: None }
     }
 }
 

@@ -187,6 +187,9 @@ fn noise(path: &FieldPath, noise: &NoiseSettings) -> Check {
             return fail(path, "time_limit", format!("must be > 0 seconds, got {limit}"));
         }
     }
+    if noise.rounds == Some(0) {
+        return fail(path, "rounds", "must be at least 1 (round 0 always runs), got 0".to_owned());
+    }
     Ok(())
 }
 

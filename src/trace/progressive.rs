@@ -124,6 +124,9 @@ pub(super) fn render_noise<S: PrimitiveStore>(
                 false => NoiseStop::MaxSamples,
             };
         }
+        if noise.rounds.is_some_and(|r| rounds >= r) {
+            break NoiseStop::Rounds;
+        }
         if let Some(limit) = noise.time_limit {
             // The next round's time, at this round's seconds per camera sample.
             let per_sample = round_seconds / traced.max(1) as f64;

@@ -121,6 +121,8 @@ pub enum NoiseStop {
     MaxSamples,
     /// The next round would not have fitted in the time limit.
     TimeLimit,
+    /// The rounds asked for (`rounds`) were done.
+    Rounds,
 }
 
 /// What noise-driven adaptive sampling did in a frame (all zero when it was off).

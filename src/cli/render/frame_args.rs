@@ -66,6 +66,16 @@ pub struct FrameArgs {
     /// SECONDS of tracing (the image is always complete).
     #[arg(long, value_name = "SECONDS", value_parser = parse_time_limit, conflicts_with_all = ["adaptive", "no_adaptive"])]
     time_limit: Option<f32>,
+    /// Noise-driven adaptive sampling for at most N rounds (N >= 1), and no time limit: what a
+    /// render stopped by its time limit records in its replay arguments, so that it renders
+    /// again exactly, on any machine.
+    #[arg(
+        long,
+        value_name = "N",
+        value_parser = clap::value_parser!(u32).range(1..),
+        conflicts_with_all = ["adaptive", "no_adaptive", "time_limit"]
+    )]
+    noise_rounds: Option<u32>,
     /// Noise-driven adaptive sampling: at least MIN and at most MAX camera samples per pixel
     /// (each rounded up to whole batches of the AA set; 1 <= MIN <= MAX <= 65536).
     #[arg(long, value_name = "MIN:MAX", value_parser = parse_noise_samples, conflicts_with_all = ["adaptive", "no_adaptive"])]
@@ -308,7 +318,11 @@ fn apply_effects(desc: &mut SceneDesc, args: &FrameArgs) {
         desc.settings.adaptive = None;
         desc.settings.noise = None;
     }
-    if args.target_error.is_some() || args.time_limit.is_some() || args.noise_samples.is_some() {
+    if args.target_error.is_some()
+        || args.time_limit.is_some()
+        || args.noise_samples.is_some()
+        || args.noise_rounds.is_some()
+    {
         let mut noise = desc.settings.noise.unwrap_or_default();
         if let Some(e) = args.target_error {
             noise.target_error = e;
@@ -318,6 +332,9 @@ fn apply_effects(desc: &mut SceneDesc, args: &FrameArgs) {
         }
         if let Some((lo, hi)) = args.noise_samples {
             (noise.min_samples, noise.max_samples) = (lo, hi);
+        }
+        if let Some(n) = args.noise_rounds {
+            (noise.rounds, noise.time_limit) = (Some(n), None);
         }
         desc.settings.noise = Some(noise);
         desc.settings.adaptive = None;

@@ -97,8 +97,13 @@ impl Variant {
             Setting::Noise(target_error, aa, min_samples, max_samples) => {
                 d.settings.adaptive = None;
                 d.settings.aa.samples = aa;
-                d.settings.noise =
-                    Some(NoiseSettings { target_error, min_samples, max_samples, time_limit: None });
+                d.settings.noise = Some(NoiseSettings {
+                    target_error,
+                    min_samples,
+                    max_samples,
+                    time_limit: None,
+                    rounds: None,
+                });
             }
         }
         d
