@@ -215,6 +215,36 @@ fn lens_samples_anti_alias_in_focus_edges_at_aa_1() {
     assert!(partial(&lens) > 40, "{} partly covered pixels", partial(&lens));
 }
 
+fn rmse(a: &[Vec3], b: &[Vec3]) -> f32 {
+    let sum: f32 = a.iter().zip(b).map(|(a, b)| (*a - *b).length_squared()).sum();
+    (sum / (3 * a.len()) as f32).sqrt()
+}
+
+#[test]
+fn adaptive_lattice_points_take_their_share_of_the_lens_samples() {
+    // The triangle off the focal plane, blurred by a lens of 16 samples.
+    let mut adaptive = focal_plane_scene(8.0, 0.3);
+    adaptive.settings.adaptive = Some(scene::AdaptiveSettings { threshold: 1e30, max_depth: 2 });
+    let (corners_only, stats) = render_desc(&adaptive);
+    assert_eq!(stats.rays.lens, 49 * 49 * 16, "every pixel corner takes all 16 lens samples");
+
+    let mut reference = focal_plane_scene(8.0, 0.3);
+    reference.camera.lens.samples = 1024;
+    let (reference, _) = render_desc(&reference);
+    adaptive.settings.adaptive = Some(scene::AdaptiveSettings { threshold: 0.05, max_depth: 2 });
+    let (refined, stats) = render_desc(&adaptive);
+    // The fixed render with at least the adaptive render's rays.
+    let mut fixed = focal_plane_scene(8.0, 0.3);
+    fixed.camera.lens.samples = (stats.rays.lens as u32).div_ceil(48 * 48);
+    let (fixed, fixed_stats) = render_desc(&fixed);
+    assert!(fixed_stats.rays.lens >= stats.rays.lens);
+    let (a, f) = (rmse(&refined, &reference), rmse(&fixed, &reference));
+    // Corners alone (16 lens samples each, 49² of them) are closer still: deeper points take
+    // 4, then 1, and their noise reads as contrast (left for the spread-aware criterion).
+    assert!(rmse(&corners_only, &reference) < f, "{} against fixed {f}", rmse(&corners_only, &reference));
+    assert!(a <= f, "adaptive RMSE {a} against fixed {f} with as many rays");
+}
+
 #[test]
 fn a_point_off_the_focal_plane_spreads_over_the_analytic_circle_of_confusion() {
     // A small sphere at depth z, focus at f, lens radius A, image height H, field of view φ:

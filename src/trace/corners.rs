@@ -15,7 +15,7 @@ use super::tiles::{assemble, saturate, Assembled, TileResult, TILE};
 use crate::math::Vec3;
 use crate::sample::adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint};
 use crate::sample::dims;
-use crate::sample::pattern::disk_point;
+use crate::sample::pattern::{disk_point, disk_point_in, strata};
 use crate::sample::rng::{permute, uniform2, SampleKey};
 use crate::sample::Pattern;
 use crate::store::PrimitiveStore;
@@ -105,10 +105,12 @@ pub(super) fn render_adaptive<S: PrimitiveStore>(
     (image, counts)
 }
 
-/// The colour at a lattice point (image position `p / res`): one camera sample (with one lens
-/// point when the camera has an aperture), or where something moves, its share of the time
-/// samples, each at its own time and lens point; effect budgets are scaled to the area the
-/// point stands for. A pure function of the point's coordinates.
+/// The colour at a lattice point (image position `p / res`): its share of the pixel's camera
+/// samples. A point first needed at subdivision level `l` stands for `4^-l` of a pixel, and
+/// takes that share of the lens samples (with an aperture) and of the time samples (where
+/// something moves), each at least one, stratified over the point's samples; effect budgets
+/// are scaled to the same area. Pixel corners (level 0) take them all, as a fixed render's
+/// pixel does. A pure function of the point's coordinates.
 pub(super) fn lattice_sample<S: PrimitiveStore>(
     scene: &TraceScene<S>,
     settings: &RenderSettings,
@@ -120,34 +122,47 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
     let key =
         SampleKey { seed: settings.seed, frame: settings.frame, pixel: id as u32, sample: (id >> 32) as u32 };
     let (px, py) = (p.x as f32 / res as f32, p.y as f32 / res as f32);
-    // A point first needed at subdivision level l stands for a square of 4^-l of a pixel: it
-    // takes that share of each effect's per-pixel budget (corners, level 0, take all of it),
-    // time samples included (at least one).
     let level =
         res.trailing_zeros() - p.x.trailing_zeros().min(p.y.trailing_zeros()).min(res.trailing_zeros());
     let spp = 1u32 << (2 * level);
+    let share = |samples: u32| samples.max(1).div_ceil(spp);
     let times = match scene.motion {
-        Some(_) => settings.time.samples.max(1).div_ceil(spp),
+        Some(_) => share(settings.time.samples),
         None => 1,
     };
+    let lenses = match scene.camera.has_lens() {
+        true => share(settings.lens.samples),
+        false => 1,
+    };
+    // The scene's camera-samples rule keeps lens × time samples within 32 bits.
+    let m = times.saturating_mul(lenses);
     let order = crate::sample::rng::hash(&key, dims::TIME, dims::PIXEL_PATTERNS - 1);
+    let lens_order = crate::sample::rng::hash(&key, dims::LENS, dims::PERMUTATION_SEED);
+    let lens_strata = strata(m);
     let mut mean = SampleMean::default();
-    for j in 0..times {
+    for j in 0..m {
         // Sample 0 keeps the point's own key and draws; the others get keys of their own.
         let index = dims::PIXEL_PATTERNS - 2 * j;
         let time = match scene.motion {
             Some(_) => {
                 rays.timed += 1;
-                let k = permute(j, times, order);
+                let k = permute(j, m, order);
                 let u = crate::sample::rng::uniform(&key, dims::TIME, index);
-                stratum_time(settings.time.pattern, k, times, u)
+                stratum_time(settings.time.pattern, k, m, u)
             }
             None => 0.0,
         };
         let cam = scene.camera_at(time);
         let ray = if cam.has_lens() {
             rays.lens += 1;
-            let lens = disk_point(Pattern::Random, 1, 0, uniform2(&key, dims::LENS, index));
+            let u = uniform2(&key, dims::LENS, index);
+            let lens = match lenses {
+                // One lens point: anywhere on the lens.
+                1 => disk_point(Pattern::Random, 1, 0, u),
+                // Several: stratified over the point's samples, in an order decorrelated from
+                // their times.
+                _ => disk_point_in(settings.lens.pattern, lens_strata, permute(j, m, lens_order), u),
+            };
             cam.lens_ray(px, py, settings.width, settings.height, lens)
         } else {
             rays.camera += 1;
@@ -157,11 +172,11 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
             0 => key,
             _ => SampleKey { sample: key.sample ^ j.wrapping_mul(0x9E37_79B9), ..key },
         };
-        let camera = CameraSample { key: own, pixel: key, slot: j, spp: spp.saturating_mul(times) };
+        let camera = CameraSample { key: own, pixel: key, slot: j, spp: spp.saturating_mul(m) };
         mean.add(trace_camera_ray(scene, settings, &ray, camera, time, rays));
     }
     // A point none of whose samples is finite is non-finite, so refinement drops and counts it.
-    match mean.dropped() == times {
+    match mean.dropped() == m {
         true => Vec3::NAN,
         false => mean.mean(),
     }

@@ -56,20 +56,25 @@ pub fn lens_rule(
 /// The camera-samples rule: `settings.aa.samples` × `camera.lens.samples` (with an aperture)
 /// × `camera.time.samples` ≤ [`MAX_CAMERA_SAMPLES`], reported at `camera.time.samples` (the
 /// only factor that can push the product past it). Adaptive renders trace at most
-/// `camera.time.samples` rays per lattice point, so only the time samples count there.
+/// `camera.lens.samples` (with an aperture) × `camera.time.samples` rays per lattice point (a
+/// pixel corner), so the AA samples do not count there.
 pub fn camera_samples_violation(terms: &PixelTerms) -> Option<Violation> {
     let r = &terms.render;
     let lens = if terms.aperture > 0.0 { u64::from(r.lens.samples) } else { 1 };
     let per_position = match r.adaptive {
-        Some(_) => 1,
+        Some(_) => lens,
         None => u64::from(r.aa.samples) * lens,
     };
     let n = per_position * u64::from(r.time.samples);
     (n > MAX_CAMERA_SAMPLES).then(|| {
+        let aa = match r.adaptive {
+            Some(_) => "a pixel corner (settings.adaptive) takes".to_owned(),
+            None => format!("a pixel takes settings.aa.samples {} ×", r.aa.samples),
+        };
         let rule = format!(
-            "a pixel takes settings.aa.samples {} × camera.lens.samples {lens} (with camera.aperture > 0) \
-             × camera.time.samples {} = {n} camera samples, more than {MAX_CAMERA_SAMPLES}; lower one of them",
-            r.aa.samples, r.time.samples
+            "{aa} camera.lens.samples {lens} (with camera.aperture > 0) × camera.time.samples {} = {n} \
+             camera samples, more than {MAX_CAMERA_SAMPLES}; lower one of them",
+            r.time.samples
         );
         violation("camera.time.samples", rule)
     })

@@ -30,7 +30,13 @@ impl RadianceBudget {
         let camera = match s.adaptive {
             Some(_) => {
                 parts.push("4 (settings.adaptive averages corners in fours)".to_owned());
-                4.0
+                let mut n = 4.0;
+                // A pixel corner takes all the lens samples.
+                if terms.aperture > 0.0 {
+                    parts.push(format!("camera.lens.samples {} (camera.aperture > 0)", s.lens.samples));
+                    n *= f64::from(s.lens.samples);
+                }
+                n
             }
             None => {
                 parts.push(format!("settings.aa.samples {}", s.aa.samples));

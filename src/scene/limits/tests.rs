@@ -110,8 +110,17 @@ fn camera_samples_must_fit_32_bits_and_blame_the_time_samples() {
     assert_eq!(
         camera_samples_violation(&PixelTerms::of(&scene)),
         None,
-        "a lattice point takes only the times"
+        "a lattice point takes the lens and time samples, not the AA samples"
     );
+    // A corner takes every lens sample: past the limit only with more times than a field allows.
+    (scene.camera.lens.samples, scene.camera.time.samples) = (4096, 4097);
+    let v = camera_samples_violation(&PixelTerms::of(&scene)).expect("a corner takes every lens sample");
+    assert!(
+        v.rule.contains("a pixel corner (settings.adaptive) takes camera.lens.samples 4096"),
+        "{}",
+        v.rule
+    );
+    (scene.camera.lens.samples, scene.camera.time.samples) = (2, 4096);
     scene.settings.adaptive = None;
     assert_eq!(check(&scene).unwrap_err().path.to_string(), "camera.time.samples");
 }
