@@ -4,10 +4,11 @@
 //!
 //! [`super::ScriptedWorld`] moves its World into a [`LentWorld`] before each call into the
 //! script and takes it back after ([`LentWorld::lend`]); API functions reach it through
-//! [`LentWorld::scene`]. A write changes a component only when the value differs (so an
-//! entity the script did not touch, or set to the value it already had, triggers no change
-//! detection and no grid rebuild), and reads give back what the World holds: positions in
-//! `f64`, the rest in the tracer's `f32`, rotations as the angles of the stored quaternion.
+//! [`LentWorld::get`] and [`Lent::scene`]. A write changes a component only when the value
+//! differs (so an entity the script did not touch, or set to the value it already had,
+//! triggers no change detection and no grid rebuild), and reads give back what the World
+//! holds: positions in `f64`, the rest in the tracer's `f32`, rotations as the angles of the
+//! stored quaternion.
 //!
 //! What scripts can write that the tracer does not keep apart lives in components of its own:
 //! a light's colour and intensity ([`LightTerms`], whose product is the radiance) and an
