@@ -327,7 +327,7 @@ impl Scene<'_> {
         check: impl FnOnce(&World) -> ScriptResult<()>,
     ) -> ScriptResult<()>
     where
-        C: Component<Mutability = Mutable> + PartialEq + Clone,
+        C: Component<Mutability = Mutable> + PartialEq,
     {
         let Some(mut c) = self.world.get_mut::<C>(entity) else { return Ok(()) };
         if *c == value {
@@ -353,7 +353,7 @@ impl Scene<'_> {
         check: impl FnOnce(&World) -> ScriptResult<()>,
     ) -> ScriptResult<()>
     where
-        R: Resource<Mutability = Mutable> + PartialEq + Clone,
+        R: Resource<Mutability = Mutable> + PartialEq,
     {
         let Some(mut r) = self.world.get_resource_mut::<R>() else { return Ok(()) };
         if *r == value {

@@ -136,8 +136,9 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
     };
     // The scene's camera-samples rule keeps lens × time samples within 32 bits.
     let m = times.saturating_mul(lenses);
+    // The orders' seeds take an index no sample's draw uses (those are `PIXEL_PATTERNS - 2j`).
     let order = crate::sample::rng::hash(&key, dims::TIME, dims::PIXEL_PATTERNS - 1);
-    let lens_order = crate::sample::rng::hash(&key, dims::LENS, dims::PERMUTATION_SEED);
+    let lens_order = crate::sample::rng::hash(&key, dims::LENS, dims::PIXEL_PATTERNS - 1);
     let lens_strata = strata(m);
     let mut mean = SampleMean::default();
     for j in 0..m {
