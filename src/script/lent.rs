@@ -292,9 +292,7 @@ impl Lent {
     /// the call that made it ended cannot happen in a script, but fails cleanly if it did).
     pub fn scene(&mut self) -> ScriptResult<Scene<'_>> {
         match self.world.as_mut() {
-            Some(world) => {
-                Ok(Scene { world, quiet: self.quiet, written: &mut self.written, names: &self.names })
-            }
+            Some(world) => Ok(Scene { world, quiet: self.quiet, written: &mut self.written }),
             None => error("the scene can be read and written only while the script runs"),
         }
     }
@@ -312,8 +310,6 @@ pub struct Scene<'a> {
     quiet: bool,
     /// What the call wrote that spans fields.
     pub written: &'a mut Written,
-    /// Named objects and lights, in spawn order.
-    pub names: &'a [(String, Entity)],
 }
 
 impl Scene<'_> {
