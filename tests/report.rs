@@ -76,6 +76,8 @@ fn a_sweep_writes_every_output_and_error_falls_as_samples_rise() {
         "rays_vs_error.svg",
         "effect_costs.png",
         "effect_costs.svg",
+        "estimate_vs_error.png",
+        "estimate_vs_error.svg",
     ] {
         assert!(dir.join(file).is_file(), "{file} is missing");
     }
@@ -394,7 +396,7 @@ window.addEventListener('load', () => {
   images.forEach(i => { i.loading = 'eager'; });
   const report = () => {
     const broken = images.filter(i => !(i.complete && i.naturalWidth > 0)).map(i => i.getAttribute('src'));
-    const plots = images.filter(i => /error_vs_time|rays_vs_error|effect_costs/.test(i.getAttribute('src') || ''));
+    const plots = images.filter(i => /error_vs_time|rays_vs_error|effect_costs|estimate_vs_error/.test(i.getAttribute('src') || ''));
     document.getElementById('result').textContent =
       'IMAGES=' + images.length + ' PLOTS=' + plots.length + ' BROKEN=' + JSON.stringify(broken);
   };
@@ -437,7 +439,7 @@ window.addEventListener('load', () => {
         .and_then(|p| p.split(' ').next())
         .and_then(|n| n.parse().ok())
         .unwrap_or(0);
-    assert!(plots >= 3, "the three plots are shown: {result}");
+    assert!(plots >= 4, "the four plots are shown: {result}");
     let console_errors: Vec<&str> = log
         .lines()
         .filter(|l| l.contains("CONSOLE") && (l.contains("rror") || l.contains("Failed to load")))

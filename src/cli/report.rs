@@ -188,6 +188,7 @@ pub fn run(args: &ReportArgs) -> anyhow::Result<()> {
     plot::error_vs_time(&report, &args.output)?;
     plot::rays_vs_error(&report, &args.output)?;
     plot::effect_costs(&report, &args.output)?;
+    plot::estimate_vs_error(&report, &args.output)?;
     let index = html::write_index(&report, &args.output)?;
     if !args.quiet {
         let front: Vec<&str> =

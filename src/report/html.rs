@@ -6,7 +6,9 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::plot::{format_number, EFFECT_COSTS, ERROR_VS_TIME, HEIGHT, RAYS_VS_ERROR, WIDTH};
+use super::plot::{
+    format_number, EFFECT_COSTS, ERROR_VS_TIME, ESTIMATE_VS_ERROR, HEIGHT, RAYS_VS_ERROR, WIDTH,
+};
 use super::{Point, Report};
 use crate::film::{write_atomically, OutputError};
 
@@ -164,6 +166,10 @@ fn plots(page: &mut String) {
         (ERROR_VS_TIME, "RMSE against median render time, log-log, with the Pareto front dashed."),
         (RAYS_VS_ERROR, "RMSE against rays traced, log-log."),
         (EFFECT_COSTS, "Median render time of each effect with the scene's setting and with one sample."),
+        (
+            ESTIMATE_VS_ERROR,
+            "The noise-driven mode's estimated RMSE against its true RMSE, log-log; on the dashed line they are equal.",
+        ),
     ];
     for (stem, caption) in plots {
         let _ = writeln!(
@@ -385,7 +391,7 @@ mod tests {
 
         assert!(html.starts_with("<!DOCTYPE html>"));
         assert!(html.trim_end().ends_with("</html>"));
-        for stem in [ERROR_VS_TIME, RAYS_VS_ERROR, EFFECT_COSTS] {
+        for stem in [ERROR_VS_TIME, RAYS_VS_ERROR, EFFECT_COSTS, ESTIMATE_VS_ERROR] {
             assert!(html.contains(&format!("\"{stem}.svg\"")), "{stem}.svg");
             assert!(html.contains(&format!("\"{stem}.png\"")), "{stem}.png");
         }

@@ -1,5 +1,6 @@
 //! The plots of a [`Report`]: error against time (with the Pareto front), error against rays,
-//! and what each effect's sampling costs. Each plot is written twice with one stem, as an
+//! what each effect's sampling costs, and the noise-driven mode's estimated error against its
+//! true error. Each plot is written twice with one stem, as an
 //! 800×500 PNG and as an SVG, both atomically. PNG text is rasterised by `ab_glyph` from the
 //! bundled DejaVu Sans (`assets/DejaVuSans.ttf`), so no system font library is needed; SVG text
 //! names the `sans-serif` family and is drawn by the viewer (layout is measured with the same
@@ -16,7 +17,7 @@
 //! Degenerate data (no points, one point, equal times, no costs) never panics; with nothing to
 //! draw the plot says "no data".
 //!
-//! `error_chart` draws the two log-log error plots, `costs` the bar chart and `frame` what
+//! `error_chart` draws the three log-log error plots, `costs` the bar chart and `frame` what
 //! surrounds every chart: the title, the legend column, the note under the axes and the
 //! "no data" plate.
 
@@ -36,11 +37,11 @@ use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};
 
 use self::costs::draw_costs;
-use self::error_chart::draw_error_chart;
+use self::error_chart::{draw_error_chart, rmse_against, Axes};
 pub use self::frame::LEGEND_WIDTH;
 use self::raster::Raster;
 pub(crate) use self::scale::format_number;
-use super::Report;
+use super::{Point, Report};
 use crate::film::{write_atomically, OutputError};
 
 /// File stem of the error-against-time plot.
@@ -49,6 +50,8 @@ pub const ERROR_VS_TIME: &str = "error_vs_time";
 pub const RAYS_VS_ERROR: &str = "rays_vs_error";
 /// File stem of the effect-cost bar chart.
 pub const EFFECT_COSTS: &str = "effect_costs";
+/// File stem of the noise-driven mode's estimated-against-true error plot.
+pub const ESTIMATE_VS_ERROR: &str = "estimate_vs_error";
 /// Width of every plot in pixels.
 pub const WIDTH: u32 = 800;
 /// Height of every plot in pixels.
@@ -130,11 +133,19 @@ pub fn effect_costs(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, PlotErr
     write_plot(&Plot::EffectCosts(report), dir, EFFECT_COSTS)
 }
 
+/// Plots the noise-driven mode's estimated RMSE (what its rounds decided by) against its true
+/// RMSE, log-log, with the line where they are equal; variants without an estimate are left
+/// out. Writes `dir/estimate_vs_error.png` and `.svg` and returns their paths.
+pub fn estimate_vs_error(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, PlotError> {
+    write_plot(&Plot::EstimateVsError(report), dir, ESTIMATE_VS_ERROR)
+}
+
 /// The closed set of plots, dispatched by [`Plot::draw`].
 enum Plot<'a> {
     ErrorVsTime(&'a Report),
     RaysVsError(&'a Report),
     EffectCosts(&'a Report),
+    EstimateVsError(&'a Report),
 }
 
 /// What a drawing step returns on a backend.
@@ -146,13 +157,33 @@ impl Plot<'_> {
         match *self {
             Plot::ErrorVsTime(r) => {
                 let title = format!("Error vs time — {}", r.scene);
-                draw_error_chart(root, r, &title, "median render time (s)", |p| p.seconds, true)
+                draw_error_chart(
+                    root,
+                    r,
+                    &title,
+                    &rmse_against("median render time (s)", |p| p.seconds, true),
+                )
             }
             Plot::RaysVsError(r) => {
                 let title = format!("Error vs rays — {}", r.scene);
-                draw_error_chart(root, r, &title, "rays traced", |p| p.rays.total() as f64, false)
+                let axes = rmse_against("rays traced", |p| p.rays.total() as f64, false);
+                draw_error_chart(root, r, &title, &axes)
             }
             Plot::EffectCosts(r) => draw_costs(root, r),
+            Plot::EstimateVsError(r) => {
+                let title = format!("Estimated vs true error — {}", r.scene);
+                let axes = Axes {
+                    x_desc: "RMSE against the reference",
+                    y_desc: "estimated RMSE (noise-driven rounds)",
+                    x_of: |p: &Point| p.rmse,
+                    y_of: |p: &Point| p.estimated_rmse,
+                    zero: "an estimate of 0",
+                    left_out: "variant(s) without an estimate or with RMSE 0",
+                    front: false,
+                    diagonal: true,
+                };
+                draw_error_chart(root, r, &title, &axes)
+            }
         }
     }
 }

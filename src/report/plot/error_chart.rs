@@ -1,6 +1,7 @@
-//! The two log-log error plots, RMSE against render time (with the Pareto front) and against
-//! rays: the points grouped into one series per sweep axis, RMSE-0 points drawn at a floor with
-//! an arrow, and points without a positive x left out.
+//! The log-log error plots, RMSE against render time (with the Pareto front) and against rays,
+//! and the noise-driven mode's estimated RMSE against its true RMSE (with the line where they
+//! are equal): the points grouped into one series per sweep axis, zero values drawn at a floor
+//! with an arrow, and points without a positive x (or without a y) left out.
 
 use std::ops::Range;
 
@@ -30,17 +31,60 @@ struct ErrorData {
     left_out: usize,
 }
 
+/// What one log-log chart plots of each point.
+pub(super) struct Axes<X, Y> {
+    /// The x axis's description.
+    pub x_desc: &'static str,
+    /// The y axis's description.
+    pub y_desc: &'static str,
+    /// A point's x; points without a positive, finite one are left out.
+    pub x_of: X,
+    /// A point's y (`None`: not plotted); zero is drawn at a floor with an arrow.
+    pub y_of: Y,
+    /// What the note calls a y of zero.
+    pub zero: &'static str,
+    /// What the note calls the points left out.
+    pub left_out: &'static str,
+    /// Draw the Pareto front of (seconds, RMSE), which only makes sense when x is the time.
+    pub front: bool,
+    /// Draw the line y = x.
+    pub diagonal: bool,
+}
+
+/// The axes of an RMSE plot against `x_of`.
+pub(super) fn rmse_against(
+    x_desc: &'static str,
+    x_of: impl Fn(&Point) -> f64,
+    front: bool,
+) -> Axes<impl Fn(&Point) -> f64, impl Fn(&Point) -> Option<f64>> {
+    Axes {
+        x_desc,
+        y_desc: "RMSE against the reference",
+        x_of,
+        y_of: |p: &Point| Some(p.rmse),
+        zero: "RMSE 0 (equal to the reference)",
+        left_out: "variant(s) without a positive value",
+        front,
+        diagonal: false,
+    }
+}
+
 /// Groups the drawable points by axis (and AA pattern); `None` when none is drawable.
-fn error_data(report: &Report, x_of: impl Fn(&Point) -> f64) -> Option<ErrorData> {
+fn error_data(
+    report: &Report,
+    x_of: impl Fn(&Point) -> f64,
+    y_of: impl Fn(&Point) -> Option<f64>,
+) -> Option<ErrorData> {
     let drawable = |p: &Point| {
         let x = x_of(p);
-        x.is_finite() && x > 0.0 && p.rmse.is_finite() && p.rmse >= 0.0
+        x.is_finite() && x > 0.0 && y_of(p).is_some_and(|y| y.is_finite() && y >= 0.0)
     };
     let smallest = report
         .points
         .iter()
-        .filter(|p| drawable(p) && p.rmse > 0.0)
-        .map(|p| p.rmse)
+        .filter(|p| drawable(p))
+        .filter_map(&y_of)
+        .filter(|&y| y > 0.0)
         .fold(f64::INFINITY, f64::min);
     // With no positive RMSE at all, any level will do: there is nothing to compare with.
     let floor = if smallest.is_finite() { smallest / 2.0 } else { 1e-3 };
@@ -52,11 +96,12 @@ fn error_data(report: &Report, x_of: impl Fn(&Point) -> f64) -> Option<ErrorData
             left_out += 1;
             continue;
         }
-        let y = if p.rmse > 0.0 {
-            p.rmse
-        } else {
-            zeros += 1;
-            floor
+        let y = match y_of(p) {
+            Some(y) if y > 0.0 => y,
+            _ => {
+                zeros += 1;
+                floor
+            }
         };
         // One curve per axis, and per pattern where the axis sweeps patterns too.
         let name = match p.params.iter().find(|(k, _)| k == "pattern") {
@@ -78,25 +123,26 @@ fn error_data(report: &Report, x_of: impl Fn(&Point) -> f64) -> Option<ErrorData
     Some(ErrorData { series, x, y, zero_at: (zeros > 0).then_some(floor), left_out })
 }
 
-/// A log-log chart of RMSE against `x_of`, one series per axis; `front` adds the Pareto front
-/// of (seconds, RMSE), which only makes sense when x is the time.
+/// A log-log chart of `axes`' y against its x, one series per axis.
 pub(super) fn draw_error_chart<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     report: &Report,
     title: &str,
-    x_desc: &str,
-    x_of: impl Fn(&Point) -> f64,
-    front: bool,
+    axes: &Axes<impl Fn(&Point) -> f64, impl Fn(&Point) -> Option<f64>>,
 ) -> Drawn<DB> {
-    let Some(data) = error_data(report, &x_of) else {
-        return draw_no_data(root, title, "no variant has a positive value and a finite RMSE");
+    let Some(data) = error_data(report, &axes.x_of, &axes.y_of) else {
+        let why = match axes.diagonal {
+            true => "no variant has an estimated error (the noise axis gives them)",
+            false => "no variant has a positive value and a finite RMSE",
+        };
+        return draw_no_data(root, title, why);
     };
     let mut notes = Vec::new();
     if let Some(at) = data.zero_at {
-        notes.push(format!("↓ RMSE 0 (equal to the reference), drawn at {}", format_number(at)));
+        notes.push(format!("↓ {}, drawn at {}", axes.zero, format_number(at)));
     }
     if data.left_out > 0 {
-        notes.push(format!("{} variant(s) without a positive value left out", data.left_out));
+        notes.push(format!("{} {} left out", data.left_out, axes.left_out));
     }
     let area = with_note(root, &notes.join("; "))?;
     let (area, legend) = with_legend(&area, title)?;
@@ -114,8 +160,8 @@ pub(super) fn draw_error_chart<DB: DrawingBackend>(
         )?;
     chart
         .configure_mesh()
-        .x_desc(x_desc)
-        .y_desc("RMSE against the reference")
+        .x_desc(axes.x_desc)
+        .y_desc(axes.y_desc)
         .x_label_formatter(&|v| format_number(*v))
         .y_label_formatter(&|v| format_number(*v))
         .label_style((FONT, 13).into_font().color(&INK))
@@ -125,9 +171,17 @@ pub(super) fn draw_error_chart<DB: DrawingBackend>(
         .axis_style(MUTED)
         .draw()?;
 
-    // The Pareto front first, so that the series are drawn over it.
+    // The Pareto front or the diagonal first, so that the series are drawn over it.
     let mut entries = Vec::new();
-    if front {
+    if axes.diagonal {
+        let (lo, hi) = (data.x.start.max(data.y.start), data.x.end.min(data.y.end));
+        if lo < hi {
+            let style = FRONT.stroke_width(2);
+            chart.draw_series(DashedLineSeries::new([(lo, lo), (hi, hi)], 7, 5, style))?;
+            entries.push(("estimate = true".to_owned(), Mark::Front));
+        }
+    }
+    if axes.front {
         let points: Vec<(f64, f64)> = report
             .pareto_front()
             .into_iter()
@@ -159,7 +213,8 @@ pub(super) fn draw_error_chart<DB: DrawingBackend>(
                 .map(|p| EmptyElement::at((p.0, p.1)) + Polygon::new(shape.clone(), colour.filled())),
         )?;
         // An arrow down from each point drawn above its true RMSE of 0.
-        let zeros = s.points.iter().filter(|p| report.points.get(p.2).is_some_and(|q| q.rmse <= 0.0));
+        let zeros =
+            s.points.iter().filter(|p| report.points.get(p.2).and_then(&axes.y_of).is_some_and(|y| y <= 0.0));
         chart.draw_series(zeros.map(|p| {
             EmptyElement::at((p.0, p.1))
                 + PathElement::new(vec![(0, 8), (0, 17)], line)

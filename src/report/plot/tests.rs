@@ -110,6 +110,30 @@ fn every_plot_is_written_as_png_and_svg_with_labels_and_legend() {
     );
 }
 
+#[test]
+fn the_estimate_plot_shows_the_noise_points_against_the_diagonal() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut report = synthetic_report();
+    // Without a noise axis there is nothing to plot.
+    check_written(&estimate_vs_error(&report, dir.path()).unwrap(), ESTIMATE_VS_ERROR, &["no data"]);
+    for (target, rmse, estimate) in [(0.02, 0.019, 0.021), (0.01, 0.011, 0.0095), (0.005, 0.0052, 0.0049)] {
+        let mut p = point("noise", &format!("noise {target}"), 1.0, 1_000_000, rmse);
+        p.estimated_rmse = Some(estimate);
+        report.points.push(p);
+    }
+    check_written(
+        &estimate_vs_error(&report, dir.path()).unwrap(),
+        ESTIMATE_VS_ERROR,
+        &[
+            "RMSE against the reference",
+            "estimated RMSE (noise-driven rounds)",
+            "estimate = true",
+            "noise",
+            "8 variant(s) without an estimate or with RMSE 0 left out",
+        ],
+    );
+}
+
 /// The x of every `<text>` whose content is `label`, and the right end of the axes (the
 /// largest x of the grid and axis `<line>`s) in an SVG written by plotters.
 fn text_x_and_axes_end(svg: &str, label: &str) -> (Vec<f64>, f64) {
