@@ -15,6 +15,7 @@
 //! object's own material ([`ScriptMaterial`]: the copy a script's first material write makes,
 //! so that other objects sharing the scene material keep theirs).
 
+use std::collections::HashMap;
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 use bevy_ecs::component::Mutable;
@@ -181,30 +182,6 @@ pub fn moved_light(light: &Light, to: DVec3) -> Light {
     }
 }
 
-/// The light with its radiance set to `to`.
-pub fn relit(light: &Light, to: Vec3) -> Light {
-    let mut relit = *light;
-    match &mut relit.source {
-        trace::Light::Point { radiance, .. }
-        | trace::Light::Spot { radiance, .. }
-        | trace::Light::Directional { radiance, .. }
-        | trace::Light::Rect { radiance, .. }
-        | trace::Light::Disk { radiance, .. } => *radiance = to,
-    }
-    relit
-}
-
-/// The light's radiance (colour × intensity).
-pub fn radiance(light: &Light) -> Vec3 {
-    match light.source {
-        trace::Light::Point { radiance, .. }
-        | trace::Light::Spot { radiance, .. }
-        | trace::Light::Directional { radiance, .. }
-        | trace::Light::Rect { radiance, .. }
-        | trace::Light::Disk { radiance, .. } => radiance,
-    }
-}
-
 /// The rotation of the scene convention: about X, then Y, then Z, by angles in degrees.
 pub fn rotation_from_degrees(deg: DVec3) -> Quat {
     Transform::from_scene(DVec3::ZERO, deg.as_vec3(), Vec3::ONE).rotation
@@ -239,14 +216,17 @@ pub struct Lent {
     written: Written,
     /// The frame being made.
     pub clock: Clock,
-    /// Named objects and lights, in spawn order: what `entity(name)` finds.
+    /// Named objects and lights, in spawn order (`entity_names()`).
     pub names: Vec<(String, Entity)>,
+    /// The same, by name: what `entity(name)` finds (names are unique in a scene).
+    by_name: HashMap<String, Entity>,
 }
 
 impl LentWorld {
     /// A handle for the named objects and lights `names` (in spawn order).
     pub fn new(names: Vec<(String, Entity)>) -> Self {
-        Self(Arc::new(Mutex::new(Lent { names, ..Lent::default() })))
+        let by_name = names.iter().cloned().collect();
+        Self(Arc::new(Mutex::new(Lent { names, by_name, ..Lent::default() })))
     }
 
     /// Locks the handle. API functions never panic while holding it, so a poisoned lock still
@@ -299,7 +279,7 @@ impl Lent {
 
     /// The entity called `name`.
     pub fn entity(&self, name: &str) -> Option<Entity> {
-        self.names.iter().find(|(n, _)| n == name).map(|(_, e)| *e)
+        self.by_name.get(name).copied()
     }
 }
 
@@ -439,7 +419,7 @@ pub fn prepare(world: &mut World) -> Vec<(String, Entity)> {
             }
             Some(EntityKind::Light { .. }) => {
                 if world.get::<LightTerms>(entity).is_none() {
-                    let colour = world.get::<Light>(entity).map_or(Vec3::ZERO, radiance);
+                    let colour = world.get::<Light>(entity).map_or(Vec3::ZERO, |l| l.source.radiance());
                     world.entity_mut(entity).insert(LightTerms { colour, intensity: 1.0 });
                 }
             }

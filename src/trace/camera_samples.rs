@@ -81,8 +81,8 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
     /// Camera sample `sample` of pixel `(x, y)`: its ray (counted as a camera or lens ray), its
     /// key and its time in the shutter interval. Samples `i · n_lens · n_time ..` are AA
     /// position `i` (through `n_lens` lens points, each at `n_time` times); with one AA
-    /// position, each of several samples takes its own position in the pixel instead. Where something
-    /// moves, times are stratified over the pixel's samples (one stratum of `1/n` each, in an
+    /// position, each of several samples takes its own position in the pixel instead. Where
+    /// something moves, times are stratified over the pixel's samples (one stratum of `1/n` each, in an
     /// order decorrelated from positions and lens points, placed by the time pattern);
     /// elsewhere every time is 0 and none is drawn.
     #[inline]
@@ -121,13 +121,9 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
             // strata and points), in an order decorrelated from their lens points and times: a
             // pinhole at AA n and a lens at AA 1 with n lens samples see the focal plane alike.
             true => {
-                let k = permute(
-                    sample,
-                    self.n,
-                    Dimension::new(&patterns, dims::PIXEL).hash(dims::PERMUTATION_SEED),
-                );
-                let u = uniform2(&patterns, dims::PIXEL, k);
-                pixel_offset(&settings.aa, self.n, self.lens_strata, k, u, true)
+                let positions = Dimension::new(&patterns, dims::PIXEL);
+                let k = permute(sample, self.n, positions.hash(dims::PERMUTATION_SEED));
+                pixel_offset(&settings.aa, self.n, self.lens_strata, k, positions.uniform2(k), true)
             }
             false => {
                 let i = sample / (self.n_lens * self.n_time);

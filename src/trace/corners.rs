@@ -16,7 +16,7 @@ use crate::math::Vec3;
 use crate::sample::adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint};
 use crate::sample::dims;
 use crate::sample::pattern::{disk_point, disk_point_in, strata};
-use crate::sample::rng::{permute, uniform2, SampleKey};
+use crate::sample::rng::{permute, Dimension, SampleKey};
 use crate::sample::Pattern;
 use crate::store::PrimitiveStore;
 
@@ -137,8 +137,9 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
     // The scene's camera-samples rule keeps lens × time samples within 32 bits.
     let m = times.saturating_mul(lenses);
     // The orders' seeds take an index no sample's draw uses (those are `PIXEL_PATTERNS - 2j`).
-    let order = crate::sample::rng::hash(&key, dims::TIME, dims::PIXEL_PATTERNS - 1);
-    let lens_order = crate::sample::rng::hash(&key, dims::LENS, dims::PIXEL_PATTERNS - 1);
+    let (times_dim, lens_dim) = (Dimension::new(&key, dims::TIME), Dimension::new(&key, dims::LENS));
+    let (order, lens_order) =
+        (times_dim.hash(dims::PIXEL_PATTERNS - 1), lens_dim.hash(dims::PIXEL_PATTERNS - 1));
     let lens_strata = strata(m);
     let mut mean = SampleMean::default();
     for j in 0..m {
@@ -148,7 +149,8 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
             Some(_) => {
                 rays.timed += 1;
                 let k = permute(j, m, order);
-                let u = crate::sample::rng::uniform(&key, dims::TIME, index);
+                // `uniform(key, TIME, index)`: the first of the point's pair.
+                let u = times_dim.uniform2(index).x;
                 stratum_time(settings.time.pattern, k, m, u)
             }
             None => 0.0,
@@ -156,7 +158,7 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
         let cam = scene.camera_at(time);
         let ray = if cam.has_lens() {
             rays.lens += 1;
-            let u = uniform2(&key, dims::LENS, index);
+            let u = lens_dim.uniform2(index);
             let lens = match lenses {
                 // One lens point: anywhere on the lens.
                 1 => disk_point(Pattern::Random, 1, 0, u),

@@ -126,6 +126,30 @@ impl Light {
         }
     }
 
+    /// The light's radiance (its colour × intensity).
+    pub fn radiance(&self) -> Vec3 {
+        match *self {
+            Light::Point { radiance, .. }
+            | Light::Spot { radiance, .. }
+            | Light::Directional { radiance, .. }
+            | Light::Rect { radiance, .. }
+            | Light::Disk { radiance, .. } => radiance,
+        }
+    }
+
+    /// The light with its radiance set to `to`.
+    pub fn with_radiance(&self, to: Vec3) -> Self {
+        let mut relit = *self;
+        match &mut relit {
+            Light::Point { radiance, .. }
+            | Light::Spot { radiance, .. }
+            | Light::Directional { radiance, .. }
+            | Light::Rect { radiance, .. }
+            | Light::Disk { radiance, .. } => *radiance = to,
+        }
+        relit
+    }
+
     /// The light moved by `by` (directional lights do not move).
     pub fn translated(&self, by: Vec3) -> Self {
         let mut moved = *self;

@@ -14,8 +14,8 @@ use super::properties::unknown_name;
 use super::scene::{coordinate_vec, finite_vec, obeys};
 use crate::scene::fields::{self, Rule};
 use crate::script::lent::{
-    centre, degrees_from_rotation, kind, light_position, moved_light, relit, rotation_from_degrees,
-    EntityKind, Lent, LentWorld, Scene, ScriptMaterial,
+    centre, degrees_from_rotation, kind, light_position, moved_light, rotation_from_degrees, EntityKind,
+    Lent, LentWorld, Scene, ScriptMaterial,
 };
 use crate::trace::Material;
 use crate::world::components::{Light, LightTerms, MaterialRef, Transform, Visible};
@@ -271,6 +271,7 @@ impl EntityHandle {
         let terms = next(self.terms(scene.world, self.entity, field)?);
         scene.set(self.entity, terms, |world| limits::radiance(world, &what))?;
         let Some(light) = scene.world.get::<Light>(self.entity) else { return Ok(()) };
-        scene.set(self.entity, relit(light, terms.colour * terms.intensity), |_| Ok(()))
+        let relit = Light { source: light.source.with_radiance(terms.colour * terms.intensity), ..*light };
+        scene.set(self.entity, relit, |_| Ok(()))
     }
 }

@@ -36,7 +36,7 @@ fn an_area_light_moves_by_its_centre() {
     let moved = moved_light(&rect, to);
     assert_eq!(light_position(&moved), Some(to));
     assert_eq!(moved.position(), Some(DVec3::new(1e6 + 0.01 - 1.0, 3.0, 0.0)));
-    assert_eq!(radiance(&relit(&moved, Vec3::new(0.5, 2.0, 0.0))), Vec3::new(0.5, 2.0, 0.0));
+    assert_eq!(moved.source.with_radiance(Vec3::new(0.5, 2.0, 0.0)).radiance(), Vec3::new(0.5, 2.0, 0.0));
 }
 
 /// A spawned default scene, prepared for a script, with its first object.
