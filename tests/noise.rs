@@ -5,8 +5,10 @@
 
 use penumbra::film::metrics::rmse;
 use penumbra::film::{AovSet, Film};
-use penumbra::scene::{self, NoiseSettings, SceneDesc};
-use penumbra::trace::{render, render_with_aovs, NoiseStop, RenderStats};
+use penumbra::sample::Pattern;
+use penumbra::scene::{self, LightDesc, NoiseSettings, SceneDesc};
+use penumbra::simd::SimdLevel;
+use penumbra::trace::{render, render_with_aovs, NoiseStop, RenderSettings, RenderStats};
 use penumbra::world::SceneWorld;
 
 /// The soft shadow of a square light behind an edge: a wall's top edge shades half the floor
@@ -190,6 +192,35 @@ fn noise_driven_images_are_the_same_bits_on_one_and_two_threads() {
 }
 
 #[test]
+fn noise_driven_images_are_the_same_bits_with_packets_and_single_rays() {
+    // Packets take each pixel's pending samples in turn, several per pixel where few pixels
+    // remain: a soft shadow (area-light packets) beside a point light's hard one.
+    let mut desc =
+        with_noise(penumbra_scene(1, 16), NoiseSettings { target_error: 0.005, ..NoiseSettings::default() });
+    desc.lights.push(LightDesc::Point {
+        position: glam::DVec3::new(2.0, 3.0, -1.0),
+        colour: glam::Vec3::ONE,
+        intensity: 0.5,
+        falloff: Default::default(),
+    });
+    let mut world: SceneWorld = scene::spawn_world(&desc);
+    let snapshot = world.update();
+    let base = world.render_settings();
+    let levels =
+        [SimdLevel::Scalar, SimdLevel::Baseline, SimdLevel::Avx2, SimdLevel::Avx512, SimdLevel::Auto];
+    let mut results = levels.into_iter().filter(|l| l.available()).map(|simd| {
+        let (film, stats) = render(&snapshot, &RenderSettings { simd, ..base });
+        (simd, bits(&film), stats)
+    });
+    let (_, want, scalar) = results.next().expect("scalar is always available");
+    assert!(scalar.noise.rounds > 2, "{:?}", scalar.noise);
+    for (simd, got, stats) in results {
+        assert!(got == want, "{simd}: the image differs from single rays");
+        assert_eq!((stats.rays.total(), stats.noise.rounds), (scalar.rays.total(), scalar.noise.rounds));
+    }
+}
+
+#[test]
 fn noise_rules_are_refused_with_their_place() {
     let base = "Scene(camera: (position: (0, 0, -5), look_at: (0, 0, 0), fov_deg: 40, width: 8, height: 8), settings: (SETTINGS), materials: [], lights: [], objects: [])";
     for (settings, field, rule) in [
@@ -255,4 +286,62 @@ fn the_command_line_turns_it_on_and_reports_it() {
         );
         assert!(!dir.path().join("bad.png").exists());
     }
+}
+
+#[test]
+fn a_pixels_samples_stay_stratified_across_batches() {
+    // Every pixel takes 16 batches of one camera sample (target 0, maximum 16). Drawn from
+    // progressive sequences, those 16 samples (two interleaved replicates of 8) are nearly as
+    // good as a fixed jittered set of 16, and far better than 16 independent points (what
+    // independent batches gave before).
+    let reference = rendered(&penumbra_scene(64, 1024), 2).0;
+    let noise =
+        NoiseSettings { target_error: 0.0, min_samples: 2, max_samples: 16, ..NoiseSettings::default() };
+    let (film, stats) = rendered(&with_noise(penumbra_scene(1, 4), noise), 2);
+    assert_eq!((stats.noise.samples_min, stats.noise.samples_max), (16, 16));
+    let fixed = |pattern: &str| {
+        let mut desc = penumbra_scene(16, 64);
+        let pattern = if pattern == "random" { Pattern::Random } else { Pattern::Jittered };
+        desc.settings.aa.pattern = pattern;
+        for light in &mut desc.lights {
+            if let LightDesc::Rect { pattern: p, .. } = light {
+                *p = pattern;
+            }
+        }
+        rmse(&rendered(&desc, 2).0, &reference).unwrap()
+    };
+    let (progressive, jittered, random) =
+        (rmse(&film, &reference).unwrap(), fixed("jittered"), fixed("random"));
+    assert!(progressive < 1.35 * jittered, "progressive {progressive:.3e}, fixed jittered {jittered:.3e}");
+    assert!(progressive < 0.75 * random, "progressive {progressive:.3e}, independent points {random:.3e}");
+}
+
+#[test]
+fn noise_driven_depth_of_field_is_closer_to_the_reference_than_fixed_with_as_many_rays() {
+    // A triangle off the focal plane, blurred by the lens; batches of 4 lens samples.
+    let scene = |lens_samples: u32| {
+        let text = format!(
+            r#"Scene(
+    camera: (position: (0, 0, 0), look_at: (0, 0, 1), fov_deg: 40, width: 48, height: 48,
+             aperture: 0.3, focus_distance: 5, lens: (samples: {lens_samples})),
+    settings: (max_depth: 0, ambient: (1, 1, 1)),
+    materials: [(name: "white", kd: (0.9, 0.6, 0.3))],
+    objects: [(shape: Triangle(vertices: ((-1, -1, 8), (1.2, -0.8, 8), (-0.5, 1.1, 8))), material: "white")],
+)"#
+        );
+        scene::parse_scene(&text, "dof.ron").expect("test scene is valid")
+    };
+    let reference = rendered(&scene(1024), 2).0;
+    let noise =
+        NoiseSettings { target_error: 0.01, min_samples: 8, max_samples: 1024, ..NoiseSettings::default() };
+    let (film, stats) = rendered(&with_noise(scene(4), noise), 2);
+    let fixed_samples = (stats.rays.lens as u32).div_ceil(48 * 48);
+    let (fixed, fixed_stats) = rendered(&scene(fixed_samples), 2);
+    assert!(fixed_stats.rays.lens >= stats.rays.lens);
+    let (adaptive, uniform) = (rmse(&film, &reference).unwrap(), rmse(&fixed, &reference).unwrap());
+    assert!(
+        adaptive <= uniform,
+        "noise-driven RMSE {adaptive:.3e} ({} lens rays) against fixed {uniform:.3e} ({fixed_samples} per pixel)",
+        stats.rays.lens
+    );
 }

@@ -10,6 +10,7 @@ pub mod dims;
 pub mod noise;
 pub mod pattern;
 pub mod rng;
+pub mod sobol;
 pub mod warp;
 
 pub use adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint};

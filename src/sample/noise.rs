@@ -1,11 +1,16 @@
-//! Noise-driven adaptive sampling: a pixel takes its camera samples in batches, each batch one
-//! whole stratified set (the `aa × lens × time` samples a fixed render would take, with their
-//! own share of every effect's budget), until the standard error of its mean, seen on the
-//! display, falls below a target.
+//! Noise-driven adaptive sampling: a pixel takes its camera samples in batches (a batch is
+//! the `aa × lens × time` camera samples a fixed render would take, with their share of every
+//! effect's budget), until the standard error of its mean, seen on the display, falls below a
+//! target.
 //!
-//! Batches are independent stratified estimates of the pixel, so the spread of their means
-//! gives an unbiased estimate of the variance of the pixel's mean (the "two interleaved half
-//! sets" estimate generalised to `B` sets). [`PixelEstimate`] keeps the sums it needs, in `f64`.
+//! A pixel's samples, counted over all its batches, alternate between two independent
+//! replicates, and each replicate draws every dimension (position, lens, time, each area light
+//! and glossy cone) from a progressive sequence of its own ([`super::sobol`]): whatever the
+//! count a pixel stops at, each replicate's points are stratified over all of its samples, not
+//! only within a batch. The difference of the two replicates' means gives an unbiased estimate
+//! of the variance of the pixel's mean ("two interleaved half sets", as Blender Cycles does);
+//! [`PixelEstimate`] keeps the sums it needs, in `f64`. That estimate has one degree of freedom
+//! per channel, so decisions use it [`pooled`] with the pixel's neighbours'.
 //!
 //! The error a viewer sees is the error after the display encoding: the standard error of each
 //! channel times the slope of the sRGB curve at the pixel's value ([`srgb_slope`]), so a dark
@@ -13,10 +18,10 @@
 //! little. The target is in display units (`0.01` ≈ 2.5/255).
 //!
 //! Rendering proceeds in rounds over the whole image. Round 0 gives every pixel
-//! [`NoiseSettings::min_batches`]; after each round, a pixel whose estimate, or any of whose
-//! eight neighbours' estimate, is above the target takes more ([`next_batches`]), up to
-//! [`NoiseSettings::max_batches`]. Every decision depends only on the samples' values, which are
-//! pure functions of (seed, pixel, batch, sample): the image is the same bits for any thread
+//! [`NoiseSettings::min_batches`]; after each round, a pixel whose pooled estimate, or any of
+//! whose eight neighbours' pooled estimate, is above the target takes more ([`next_batches`]),
+//! up to [`NoiseSettings::max_batches`]. Every decision depends only on the samples' values,
+//! which are pure functions of (seed, pixel, sample): the image is the same bits for any thread
 //! count, tile order or shard.
 
 use glam::{DVec3, Vec3};
@@ -31,8 +36,8 @@ pub struct NoiseSettings {
     /// about 2.5/255), is at most this; finite, in [0, 1]. 0 samples every pixel to
     /// `max_samples` (or the time limit). Default 0.01.
     pub target_error: f32,
-    /// Camera samples every pixel takes first, 1..=65536 (rounded up to whole batches, at
-    /// least two). Default 16.
+    /// Camera samples every pixel takes first, 1..=65536 (rounded up to whole batches, and to
+    /// at least two samples: one per replicate). Default 16.
     pub min_samples: u32,
     /// Camera samples no pixel exceeds, `min_samples..=65536` (rounded up to whole batches).
     /// Default 1024.
@@ -54,9 +59,11 @@ impl Default for NoiseSettings {
 
 impl NoiseSettings {
     /// Batches every pixel takes in round 0: `min_samples` in batches of `batch` camera
-    /// samples, rounded up, and at least two (one batch has no spread to estimate from).
+    /// samples, rounded up, and at least two samples (one per replicate: a single sample has no
+    /// spread to estimate from).
     pub fn min_batches(&self, batch: u32) -> u32 {
-        self.min_samples.div_ceil(batch.max(1)).max(2)
+        let batch = batch.max(1);
+        self.min_samples.max(REPLICATES as u32).div_ceil(batch)
     }
 
     /// Most batches a pixel takes: `max_samples` in batches, rounded up, and at least
@@ -77,52 +84,91 @@ pub fn srgb_slope(v: f64) -> f64 {
     }
 }
 
-/// What a pixel's error estimate needs from its batches: their count and the sums of their
-/// means and squared means, per channel.
+/// What a pixel's error estimate needs: per replicate, the count and sum of its finite samples.
+///
+/// A pixel's samples alternate between [`REPLICATES`] independent replicates, each stratified
+/// on its own ([`crate::sample::sobol`]). The means `m₀`, `m₁` of two independent unbiased
+/// estimates differ by `m₀ − m₁`, whose expected square is the sum of their variances; the
+/// pixel's value, their weighted mean, has variance `E[(m₀ − m₁)²] · n₀n₁ / (n₀ + n₁)²`
+/// (a quarter of it for equal counts). Unlike the spread of independent batches, this does
+/// not ignore the stratification between a pixel's samples.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct PixelEstimate {
-    batches: u32,
-    sum: DVec3,
-    squares: DVec3,
+    count: [u32; REPLICATES],
+    sum: [DVec3; REPLICATES],
 }
 
+/// Independent replicates a pixel's samples alternate between.
+pub const REPLICATES: usize = 2;
+
 impl PixelEstimate {
-    /// Adds one batch's mean (a non-finite mean, from a batch that kept no sample, is left out).
-    pub fn add(&mut self, mean: Vec3) {
-        if mean.is_finite() {
-            let m = mean.as_dvec3();
-            self.batches += 1;
-            self.sum += m;
-            self.squares += m * m;
+    /// Adds a sample of replicate `replicate` (a non-finite sample is left out).
+    pub fn add(&mut self, replicate: u32, sample: Vec3) {
+        if sample.is_finite() {
+            let r = replicate as usize % REPLICATES;
+            self.count[r] += 1;
+            self.sum[r] += sample.as_dvec3();
         }
     }
 
-    /// Batches counted.
-    pub fn batches(&self) -> u32 {
-        self.batches
+    /// Finite samples counted.
+    pub fn samples(&self) -> u32 {
+        self.count.iter().sum()
     }
 
-    /// The variance of the pixel's mean per channel, in linear units squared: the batch means'
-    /// sample variance over the batch count; infinite with fewer than two batches.
+    /// The mean of every finite sample (0 with none).
+    pub fn mean(&self) -> DVec3 {
+        match self.samples() {
+            0 => DVec3::ZERO,
+            n => (self.sum[0] + self.sum[1]) / f64::from(n),
+        }
+    }
+
+    /// The variance of the pixel's mean per channel, in linear units squared; infinite while a
+    /// replicate has no sample.
     pub fn variance_of_mean(&self) -> DVec3 {
-        if self.batches < 2 {
+        let [n0, n1] = self.count.map(f64::from);
+        if n0 == 0.0 || n1 == 0.0 {
             return DVec3::INFINITY;
         }
-        let b = f64::from(self.batches);
-        let spread = (self.squares - self.sum * self.sum / b).max(DVec3::ZERO);
-        spread / (b - 1.0) / b
+        let d = self.sum[0] / n0 - self.sum[1] / n1;
+        d * d * (n0 * n1 / ((n0 + n1) * (n0 + n1)))
     }
 
     /// The estimated display error: the largest channel's standard error times the sRGB slope
-    /// at that channel's mean. Infinite with fewer than two batches.
+    /// at that channel's mean. Infinite while a replicate has no sample.
     pub fn display_error(&self) -> f64 {
-        if self.batches < 2 {
+        let variance = self.variance_of_mean();
+        if !variance.is_finite() {
             return f64::INFINITY;
         }
-        let mean = self.sum / f64::from(self.batches);
-        let sd = self.variance_of_mean().to_array().map(f64::sqrt);
+        let (mean, sd) = (self.mean(), variance.to_array().map(f64::sqrt));
         (0..3).map(|c| sd[c] * srgb_slope(mean[c])).fold(0.0, f64::max)
     }
+}
+
+/// Each pixel's display error pooled with its neighbours': the root of the mean of its own
+/// squared error and the mean squared error of its 3 × 3 neighbourhood (itself included). One
+/// pixel's two replicates give one degree of freedom per channel, a noisy estimate; pooling
+/// steadies it while keeping half the weight on the pixel itself. Infinite errors stay infinite.
+pub fn pooled(errors: &[f64], width: usize, height: usize) -> Vec<f64> {
+    debug_assert_eq!(errors.len(), width * height);
+    let mut out = vec![0.0; errors.len()];
+    for y in 0..height {
+        for x in 0..width {
+            let (mut sum, mut count) = (0.0, 0.0);
+            for ny in y.saturating_sub(1)..(y + 2).min(height) {
+                for nx in x.saturating_sub(1)..(x + 2).min(width) {
+                    let e = errors[ny * width + nx];
+                    sum += e * e;
+                    count += 1.0;
+                }
+            }
+            let own = errors[y * width + x];
+            out[y * width + x] = ((own * own + sum / count) / 2.0).sqrt();
+        }
+    }
+    out
 }
 
 /// The batches a pixel with `batches` takes next round, given its `error` (or, for a pixel
@@ -164,31 +210,77 @@ pub fn spread(errors: &[f64], width: usize, height: usize, target: f64) -> Vec<O
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sample::rng::{hash, SampleKey};
 
     #[test]
     fn batch_counts_round_up_and_keep_two_for_an_estimate() {
         let s = NoiseSettings { min_samples: 16, max_samples: 100, ..NoiseSettings::default() };
         assert_eq!((s.min_batches(4), s.max_batches(4)), (4, 25));
-        assert_eq!((s.min_batches(64), s.max_batches(64)), (2, 2), "one batch has no spread");
+        assert_eq!((s.min_batches(64), s.max_batches(64)), (1, 2), "a batch holds both replicates");
         assert_eq!((s.min_batches(5), s.max_batches(5)), (4, 20));
         let tiny = NoiseSettings { min_samples: 1, max_samples: 1, ..s };
-        assert_eq!((tiny.min_batches(1), tiny.max_batches(1)), (2, 2));
+        assert_eq!((tiny.min_batches(1), tiny.max_batches(1)), (2, 2), "one sample has no spread");
+        assert_eq!((tiny.min_batches(2), tiny.max_batches(2)), (1, 1));
     }
 
     #[test]
-    fn the_estimate_is_the_variance_of_the_mean_of_the_batch_means() {
+    fn the_estimate_is_a_quarter_of_the_squared_difference_of_the_replicates() {
         let mut e = PixelEstimate::default();
         assert_eq!(e.display_error(), f64::INFINITY);
-        for m in [0.2f32, 0.4, 0.3, 0.5] {
-            e.add(Vec3::new(m, 0.3, 0.3));
+        e.add(0, Vec3::new(0.2, 0.3, 0.3));
+        assert_eq!(e.display_error(), f64::INFINITY, "one replicate has no sample");
+        for (r, m) in [(1, 0.4f32), (0, 0.4), (1, 0.5)] {
+            e.add(r, Vec3::new(m, 0.3, 0.3));
         }
-        e.add(Vec3::NAN);
-        assert_eq!(e.batches(), 4);
-        // Sample variance of (0.2, 0.4, 0.3, 0.5) is 1/60; over 4 batches, 1/240.
+        e.add(0, Vec3::NAN);
+        assert_eq!(e.samples(), 4);
+        // Replicate means 0.3 and 0.45: the variance of their mean is 0.15² / 4.
         let v = e.variance_of_mean();
-        assert!((v.x - 1.0 / 240.0).abs() < 1e-9 && v.y.abs() < 1e-15, "{v}");
-        let expected = (1.0f64 / 240.0).sqrt() * srgb_slope(0.35);
+        assert!((v.x - 0.15 * 0.15 / 4.0).abs() < 1e-7 && v.y.abs() < 1e-15, "{v}");
+        assert!((e.mean().x - 0.375).abs() < 1e-6);
+        let expected = (0.15 / 2.0) * srgb_slope(0.375);
         assert!((e.display_error() / expected - 1.0).abs() < 1e-6);
+        // Unequal counts weigh the difference by n0·n1/(n0+n1)²: 2·1/9 here.
+        let mut u = PixelEstimate::default();
+        for (r, m) in [(0, 0.2f32), (0, 0.2), (1, 0.5)] {
+            u.add(r, Vec3::splat(m));
+        }
+        assert!((u.variance_of_mean().x - 0.09 * 2.0 / 9.0).abs() < 1e-7);
+    }
+
+    #[test]
+    fn the_estimate_is_unbiased_for_independent_replicates() {
+        // Pixels whose samples are 0 or 1 with probability ½: the variance of the mean of n is
+        // 1/(4n). The average estimate over many pixels must agree within a few per cent.
+        let n = 16u32;
+        let pixels = 20_000u32;
+        let mut total = 0.0;
+        for p in 0..pixels {
+            let mut e = PixelEstimate::default();
+            for j in 0..n {
+                let bit = hash(&SampleKey { pixel: p, ..SampleKey::default() }, 0, j) >> 63;
+                e.add(j % 2, Vec3::splat(bit as f32));
+            }
+            total += e.variance_of_mean().x;
+        }
+        let (mean, truth) = (total / f64::from(pixels), 1.0 / (4.0 * f64::from(n)));
+        assert!((mean / truth - 1.0).abs() < 0.05, "estimated {mean}, true {truth}");
+    }
+
+    #[test]
+    fn pooling_keeps_half_the_weight_on_the_pixel() {
+        // One noisy pixel among quiet ones: its pooled error is √((1 + 1/9)/2) of its own, a
+        // neighbour's √((0 + 1/6)/2) at an edge of six (the window is clipped to the image).
+        let mut errors = vec![0.0; 3 * 3];
+        errors[4] = 1.0;
+        let p = pooled(&errors, 3, 3);
+        assert!((p[4] - ((1.0 + 1.0 / 9.0) / 2.0f64).sqrt()).abs() < 1e-12);
+        assert!((p[1] - (1.0 / 6.0 / 2.0f64).sqrt()).abs() < 1e-12);
+        assert!((p[0] - (1.0 / 4.0 / 2.0f64).sqrt()).abs() < 1e-12, "a corner's window is 2 × 2");
+        let flat = pooled(&[0.3; 12], 4, 3);
+        assert!(flat.iter().all(|&e| (e - 0.3).abs() < 1e-12), "a flat field pools to itself");
+        errors[0] = f64::INFINITY;
+        assert_eq!(pooled(&errors, 3, 3)[4], f64::INFINITY);
     }
 
     #[test]

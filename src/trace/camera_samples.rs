@@ -3,7 +3,7 @@
 
 use super::finite::SampleMean;
 use super::integrator::radiance;
-use super::path::{CameraSample, PathContext};
+use super::path::{CameraSample, PathContext, Replica};
 use super::scene::TraceScene;
 use super::settings::{AntiAliasing, RenderSettings};
 use super::stats::RayCounts;
@@ -12,7 +12,8 @@ use crate::math::{Ray, Vec2, Vec3};
 use crate::sample::dims;
 use crate::sample::pattern::{disk_point_in, square_point_in, strata};
 use crate::sample::rng::{permute, uniform2, Dimension, SampleKey};
-use crate::sample::warp::tent;
+use crate::sample::sobol::Progressive;
+use crate::sample::warp::{concentric_disk, tent};
 use crate::sample::{Filter, Pattern};
 use crate::store::PrimitiveStore;
 
@@ -44,9 +45,6 @@ pub(super) struct CameraSampler<'a, S: PrimitiveStore> {
     n_lens: u32,
     /// Times per AA position and lens point (1 where nothing moves).
     n_time: u32,
-    /// Whether pixels take batches of samples (noise-driven sampling): a single AA sample then
-    /// lands anywhere in the pixel instead of at its centre.
-    batched: bool,
     /// One AA position but several camera samples (lens points or times): each camera sample
     /// then takes a pixel position of its own, so that a lens or a shutter anti-aliases too.
     spread: bool,
@@ -63,7 +61,6 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
         let n_time = if scene.motion.is_some() { settings.time.samples.max(1) } else { 1 };
         // The scene's camera-samples rule keeps the product within 32 bits.
         let n = n_aa.saturating_mul(n_lens).saturating_mul(n_time);
-        let batched = settings.noise.is_some() && settings.adaptive.is_none();
         Self {
             scene,
             settings,
@@ -71,7 +68,6 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
             aa_strata: strata(n_aa),
             n_lens,
             n_time,
-            batched,
             spread: n_aa == 1 && n > 1,
             n,
             lens_strata: strata(n),
@@ -93,29 +89,9 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
         sample: u32,
         rays: &mut RayCounts,
     ) -> (Ray, CameraSample, f32) {
-        self.sample_in(x, y, 0, sample, rays)
-    }
-
-    /// [`Self::sample`] of batch `batch` of the pixel: every batch is a whole stratified set of
-    /// `n` samples with patterns of its own (batch 0 is the fixed render's set), for
-    /// noise-driven sampling.
-    #[inline]
-    pub(super) fn sample_in(
-        &self,
-        x: u32,
-        y: u32,
-        batch: u32,
-        sample: u32,
-        rays: &mut RayCounts,
-    ) -> (Ray, CameraSample, f32) {
-        let (scene, settings) = (self.scene, self.settings);
+        let settings = self.settings;
         let pixel = y * settings.width + x;
-        let patterns = SampleKey {
-            seed: settings.seed,
-            frame: settings.frame,
-            pixel,
-            sample: dims::PIXEL_PATTERNS - batch,
-        };
+        let patterns = self.pixel_key(pixel);
         let offset = match self.spread {
             // The n samples take the n positions an AA n render of this pixel takes (the same
             // strata and points), in an order decorrelated from their lens points and times: a
@@ -128,11 +104,10 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
             false => {
                 let i = sample / (self.n_lens * self.n_time);
                 let u = uniform2(&patterns, dims::PIXEL, i);
-                pixel_offset(&settings.aa, self.n_aa, self.aa_strata, i, u, self.batched)
+                pixel_offset(&settings.aa, self.n_aa, self.aa_strata, i, u, false)
             }
         };
-        let (px, py) = (x as f32 + offset.x, y as f32 + offset.y);
-        let time = match scene.motion {
+        let time = match self.scene.motion {
             Some(_) => {
                 rays.timed += 1;
                 let times = Dimension::new(&patterns, dims::TIME);
@@ -141,23 +116,96 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
             }
             None => 0.0,
         };
-        let camera = scene.camera_at(time);
-        let ray = if camera.has_lens() {
+        let lens = || {
             // Lens points are stratified over all n samples, in an order decorrelated from the
             // pixel positions.
             let lens_points = Dimension::new(&patterns, dims::LENS);
             let k = permute(sample, self.n, lens_points.hash(dims::PERMUTATION_SEED));
-            let lens = disk_point_in(settings.lens.pattern, self.lens_strata, k, lens_points.uniform2(k));
+            disk_point_in(settings.lens.pattern, self.lens_strata, k, lens_points.uniform2(k))
+        };
+        let ray = self.ray(x, y, offset, time, lens, rays);
+        let key = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample };
+        let camera = CameraSample { key, pixel: patterns, slot: sample, spp: self.n, progressive: None };
+        (ray, camera, time)
+    }
+
+    /// Camera sample `sample` of batch `batch` of the pixel, for noise-driven sampling. The
+    /// pixel's samples, counted over all its batches, alternate between two independent
+    /// replicates ([`Replica`]); each replicate's positions, lens points, times and effect
+    /// points are the next of its progressive sequences ([`crate::sample::sobol`]), so every
+    /// prefix of either replicate is stratified in every dimension, however many batches the
+    /// pixel takes. Each camera sample takes its own position in the pixel.
+    #[inline]
+    pub(super) fn sample_in(
+        &self,
+        x: u32,
+        y: u32,
+        batch: u32,
+        sample: u32,
+        rays: &mut RayCounts,
+    ) -> (Ray, CameraSample, f32) {
+        let settings = self.settings;
+        let pixel = y * settings.width + x;
+        let patterns = self.pixel_key(pixel);
+        // The noise rules cap a pixel's samples far below 2³².
+        let j = batch.wrapping_mul(self.n).wrapping_add(sample);
+        let r = Replica::of(j);
+        let place = |pattern: Pattern, dim: u32, strata: (u32, u32)| {
+            let points = Dimension::new(&patterns, dim);
+            r.place(pattern, Progressive::new(points, r.replicate), points, strata)
+        };
+        let offset = filtered(&settings.aa, place(settings.aa.pattern, dims::PIXEL, self.aa_strata));
+        let time = match self.scene.motion {
+            Some(_) => {
+                rays.timed += 1;
+                let times = Dimension::new(&patterns, dims::TIME);
+                match settings.time.pattern {
+                    Pattern::Jittered => Progressive::new(times, r.replicate).point1(r.index),
+                    pattern => {
+                        stratum_time(pattern, r.index % self.n, self.n, place(pattern, dims::TIME, (1, 1)).x)
+                    }
+                }
+            }
+            None => 0.0,
+        };
+        let lens = || concentric_disk(place(settings.lens.pattern, dims::LENS, self.lens_strata));
+        let ray = self.ray(x, y, offset, time, lens, rays);
+        let key = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample: j };
+        let camera = CameraSample { key, pixel: patterns, slot: sample, spp: self.n, progressive: Some(r) };
+        (ray, camera, time)
+    }
+
+    /// The key every camera sample of `pixel` shares, for its pixel-level patterns.
+    #[inline]
+    fn pixel_key(&self, pixel: u32) -> SampleKey {
+        let settings = self.settings;
+        SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample: dims::PIXEL_PATTERNS }
+    }
+
+    /// The ray through `offset` (pixel units from pixel `(x, y)`'s top-left corner) at `time`,
+    /// through the lens point `lens` draws where the camera has a lens; counted as a camera or
+    /// lens ray.
+    #[inline]
+    fn ray(
+        &self,
+        x: u32,
+        y: u32,
+        offset: Vec2,
+        time: f32,
+        lens: impl FnOnce() -> Vec2,
+        rays: &mut RayCounts,
+    ) -> Ray {
+        let settings = self.settings;
+        let (px, py) = (x as f32 + offset.x, y as f32 + offset.y);
+        let camera = self.scene.camera_at(time);
+        if camera.has_lens() {
+            let point = lens();
             rays.lens += 1;
-            camera.lens_ray(px, py, settings.width, settings.height, lens)
+            camera.lens_ray(px, py, settings.width, settings.height, point)
         } else {
             rays.camera += 1;
             camera.ray(px, py, settings.width, settings.height)
-        };
-        // Batches stay far below `dims::PIXEL_PATTERNS - batch` (the noise rules cap their samples).
-        let index = batch.wrapping_mul(self.n).wrapping_add(sample);
-        let key = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample: index };
-        (ray, CameraSample { key, pixel: patterns, slot: sample, spp: self.n }, time)
+        }
     }
 }
 
@@ -190,7 +238,12 @@ pub(super) fn pixel_offset(
     if n == 1 && !batched {
         return Vec2::splat(0.5);
     }
-    let p = square_point_in(aa.pattern, strata, i, u);
+    filtered(aa, square_point_in(aa.pattern, strata, i, u))
+}
+
+/// A point `p` of the unit square spread over the footprint of `aa`'s filter.
+#[inline]
+fn filtered(aa: &AntiAliasing, p: Vec2) -> Vec2 {
     match aa.filter {
         Filter::Box => p,
         Filter::Tent => Vec2::new(0.5 + tent(p.x), 0.5 + tent(p.y)),

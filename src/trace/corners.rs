@@ -175,7 +175,8 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
             0 => key,
             _ => SampleKey { sample: key.sample ^ j.wrapping_mul(0x9E37_79B9), ..key },
         };
-        let camera = CameraSample { key: own, pixel: key, slot: j, spp: spp.saturating_mul(m) };
+        let camera =
+            CameraSample { key: own, pixel: key, slot: j, spp: spp.saturating_mul(m), progressive: None };
         mean.add(trace_camera_ray(scene, settings, &ray, camera, time, rays));
     }
     // A point none of whose samples is finite is non-finite, so refinement drops and counts it.

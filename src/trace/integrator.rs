@@ -11,7 +11,6 @@ use super::stats::RayCounts;
 pub use super::surface::{facing_normals, ShadingPoint};
 use super::visibility::closest_hit_at;
 use crate::math::{reflect, refract, Ray, Vec3};
-use crate::sample::pattern::square_point;
 use crate::sample::rng::SampleKey;
 use crate::sample::warp::cone;
 use crate::store::{Hit, PrimitiveStore, TraversalCost};
@@ -209,20 +208,20 @@ fn scatter<S: PrimitiveStore>(
     let pattern = ctx.glossy.pattern;
     let half_angle = glossiness * MAX_GLOSSY_ANGLE;
     // The per-pixel budget at the first bounce; a single ray (its own stratum of 1) deeper down.
-    let samples = if depth == 0 { ctx.effect_samples(ctx.glossy.samples) } else { ctx.effect_samples(1) };
-    let n = samples.pattern_size();
+    let n = if depth == 0 { ctx.glossy.samples } else { 1 };
+    let samples = ctx.effect_samples(n, pattern);
     debug_assert_eq!(samples.taken(), ctx.cone_rays(depth), "the rays set aside for a cone");
     // The cone's later rays are set aside while each earlier ray's tree is traced.
     ctx.budget.reserve(samples.taken());
     let mut traced = 0u32;
     let mut sum = Vec3::ZERO;
-    for (stratum, u) in samples {
+    for st in samples {
         ctx.budget.release(1);
         if !ctx.budget.grant() {
             continue;
         }
         traced += 1;
-        let mut dir = cone(axis, half_angle, square_point(pattern, n, stratum, u));
+        let mut dir = cone(axis, half_angle, st);
         let below = dir.dot(side);
         if below <= 0.0 {
             dir = (dir - 2.0 * below * side).normalize();

@@ -12,7 +12,7 @@
 
 use super::finite::clamp_radiance;
 use crate::math::{unit_and_length, Ray, Vec2, Vec3};
-use crate::sample::pattern::{disk_point, square_point};
+use crate::sample::warp::concentric_disk;
 use crate::sample::Pattern;
 
 /// How the light from a light source weakens with distance.
@@ -199,19 +199,28 @@ impl Light {
         }
     }
 
-    /// Stratum `i` (of the light's `samples`) of an area light as (direction from `p`,
-    /// distance, the light's whole radiance), with `u` the random pair placing the point in the
-    /// stratum. The caller averages over the samples it takes. Point and directional lights
-    /// ignore `i` and `u`.
+    /// How the light's samples are placed over its area (jittered for point and directional
+    /// lights, which take one).
     #[inline]
-    pub fn sample(&self, p: Vec3, i: u32, u: Vec2) -> (Vec3, f32, Vec3) {
+    pub fn pattern(&self) -> Pattern {
         match *self {
-            Light::Rect { corner, edge_u, edge_v, radiance, samples, pattern, falloff, .. } => {
-                let st = square_point(pattern, samples, i, u);
+            Light::Rect { pattern, .. } | Light::Disk { pattern, .. } => pattern,
+            _ => Pattern::Jittered,
+        }
+    }
+
+    /// The point `st` of `[0, 1)²` (placed by the light's pattern: see
+    /// [`PathContext::effect_samples`](super::path::PathContext::effect_samples)) on an area
+    /// light, as (direction from `p`, distance, the light's whole radiance). The caller
+    /// averages over the samples it takes. Point and directional lights ignore `st`.
+    #[inline]
+    pub fn sample(&self, p: Vec3, st: Vec2) -> (Vec3, f32, Vec3) {
+        match *self {
+            Light::Rect { corner, edge_u, edge_v, radiance, falloff, .. } => {
                 towards_point(p, corner + st.x * edge_u + st.y * edge_v, radiance, falloff)
             }
-            Light::Disk { centre, axis_u, axis_v, radius, radiance, samples, pattern, falloff, .. } => {
-                let d = disk_point(pattern, samples, i, u) * radius;
+            Light::Disk { centre, axis_u, axis_v, radius, radiance, falloff, .. } => {
+                let d = concentric_disk(st) * radius;
                 towards_point(p, centre + d.x * axis_u + d.y * axis_v, radiance, falloff)
             }
             _ => self.towards(p),

@@ -6,7 +6,7 @@ use super::camera_samples::CameraSampler;
 use super::finite::SampleMean;
 use super::integrator::{radiance_at, ShadingPoint};
 use super::packet::{closest_hits, shadow_passes, LANES, MIN_LANES};
-use super::path::{PathContext, ShadowHint, HINTED_LIGHTS};
+use super::path::{CameraSample, PathContext, ShadowHint, HINTED_LIGHTS};
 use super::scene::TraceScene;
 use super::stats::RayCounts;
 use super::tiles::TileOut;
@@ -31,7 +31,7 @@ pub(super) fn packet_tile<S: PrimitiveStore>(
     const { assert!((BLOCK[0] * BLOCK[1]) as usize == LANES) };
     let tw = x1 - x0;
     out.pixels.resize(((y1 - y0) * tw) as usize, (Vec3::ZERO, 0));
-    let (scene, settings, n) = (sampler.scene, sampler.settings, sampler.n);
+    let n = sampler.n;
     for by in (y0..y1).step_by(BLOCK[1] as usize) {
         for bx in (x0..x1).step_by(BLOCK[0] as usize) {
             let mut means = [SampleMean::default(); LANES];
@@ -40,44 +40,15 @@ pub(super) fn packet_tile<S: PrimitiveStore>(
                 (x < x1 && y < y1).then_some((x, y))
             };
             for sample in 0..n {
-                let mut packet = RayPacket::<LANES>::default();
-                let mut cameras = [None; LANES];
-                for (lane, camera) in cameras.iter_mut().enumerate() {
-                    if let Some((x, y)) = pixel(lane) {
-                        let (ray, key, _) = sampler.sample(x, y, sample, rays);
-                        packet.set(lane, &ray, 0.0, f32::INFINITY);
-                        *camera = Some(key);
-                    }
-                }
-                let mut cost = TraversalCost::default();
-                let hits = level.run(
-                    #[inline(always)]
-                    || closest_hits(scene, &packet, &mut cost),
-                );
-                let lane_cost = cost.per_ray(cameras.iter().flatten().count() as u32);
-                // Each hit's surface, found once: the shadow packets start from it, and so does
-                // the lane's shading.
-                let surfaces: [Option<ShadingPoint>; LANES] = std::array::from_fn(|lane| {
-                    let ray = packet.ray(lane);
-                    hits.hit[lane].map(|hit| ShadingPoint::new(scene.store.surface(&hit, &ray), ray.dir))
+                let lanes = std::array::from_fn(|lane| {
+                    pixel(lane).map(|(x, y)| {
+                        let (ray, camera, _) = sampler.sample(x, y, sample, rays);
+                        (ray, camera)
+                    })
                 });
-                let hints = point_light_shadows(scene, &surfaces, level, rays);
-                for (lane, camera) in cameras.iter().enumerate() {
-                    if let Some(camera) = *camera {
-                        let mut ctx = PathContext::new(settings, camera, rays);
-                        ctx.shadow_hint = hints[lane];
-                        ctx.surface_hint = surfaces[lane];
-                        let ray = packet.ray(lane);
-                        means[lane].add(radiance_at(
-                            scene,
-                            &ray,
-                            hits.hit[lane],
-                            lane_cost,
-                            0,
-                            1.0,
-                            &mut ctx,
-                        ));
-                        ctx.finish();
+                for (mean, colour) in means.iter_mut().zip(shade_packet(sampler, level, &lanes, rays)) {
+                    if let Some(colour) = colour {
+                        mean.add(colour);
                     }
                 }
             }
@@ -88,6 +59,48 @@ pub(super) fn packet_tile<S: PrimitiveStore>(
             }
         }
     }
+}
+
+/// Traces the camera rays of `lanes` (a lane with none stays empty) as one packet: their first
+/// hits found together ([`closest_hits`], compiled for `level`), the shadow rays of those hits
+/// towards point and directional lights traced together, and each lane shaded on its own from
+/// its hit. Each lane's radiance, the same bits as the lane's ray traced alone.
+pub(super) fn shade_packet<S: PrimitiveStore>(
+    sampler: &CameraSampler<'_, S>,
+    level: SimdLevel,
+    lanes: &[Option<(Ray, CameraSample)>; LANES],
+    rays: &mut RayCounts,
+) -> [Option<Vec3>; LANES] {
+    let (scene, settings) = (sampler.scene, sampler.settings);
+    let mut packet = RayPacket::<LANES>::default();
+    for (lane, camera) in lanes.iter().enumerate() {
+        if let Some((ray, _)) = camera {
+            packet.set(lane, ray, 0.0, f32::INFINITY);
+        }
+    }
+    let mut cost = TraversalCost::default();
+    let hits = level.run(
+        #[inline(always)]
+        || closest_hits(scene, &packet, &mut cost),
+    );
+    let lane_cost = cost.per_ray(lanes.iter().flatten().count() as u32);
+    // Each hit's surface, found once: the shadow packets start from it, and so does the lane's
+    // shading.
+    let surfaces: [Option<ShadingPoint>; LANES] = std::array::from_fn(|lane| {
+        let ray = packet.ray(lane);
+        hits.hit[lane].map(|hit| ShadingPoint::new(scene.store.surface(&hit, &ray), ray.dir))
+    });
+    let hints = point_light_shadows(scene, &surfaces, level, rays);
+    std::array::from_fn(|lane| {
+        let (_, camera) = lanes[lane]?;
+        let mut ctx = PathContext::new(settings, camera, rays);
+        ctx.shadow_hint = hints[lane];
+        ctx.surface_hint = surfaces[lane];
+        let ray = packet.ray(lane);
+        let colour = radiance_at(scene, &ray, hits.hit[lane], lane_cost, 0, 1.0, &mut ctx);
+        ctx.finish();
+        Some(colour)
+    })
 }
 
 /// The shadow rays from a packet's camera hits towards each of the first [`HINTED_LIGHTS`]

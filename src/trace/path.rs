@@ -6,7 +6,10 @@ use super::stats::RayCounts;
 use super::surface::ShadingPoint;
 use crate::math::{Vec2, Vec3};
 use crate::sample::dims::{FIRST_PATH_DIM, PERMUTATION_SEED};
+use crate::sample::pattern::{square_point_in, strata};
 use crate::sample::rng::{Dimension, Permutation, SampleKey, SampleStream};
+use crate::sample::sobol::Progressive;
+use crate::sample::Pattern;
 
 /// The secondary rays (reflection, refraction, glossy, blurry) one camera sample may still
 /// trace: a per-sample counter carried down the recursion, so the rays it refuses depend only
@@ -121,12 +124,57 @@ pub struct CameraSample {
     pub slot: u32,
     /// Camera samples of the pixel: an effect's per-pixel sample count is shared among them.
     pub spp: u32,
+    /// Where the sample sits in its pixel's progressive sequences, for noise-driven sampling;
+    /// `None` for a fixed set of `spp`.
+    pub progressive: Option<Replica>,
+}
+
+/// A camera sample's place in noise-driven sampling's progressive sequences
+/// ([`crate::sample::sobol`]): which of the pixel's independent replicates it belongs to, and
+/// its index among that replicate's camera samples.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Replica {
+    /// The replicate (0 or 1: samples alternate between them).
+    pub replicate: u32,
+    /// The sample's index within its replicate.
+    pub index: u32,
+}
+
+impl Replica {
+    /// Independent replicates a noise-driven pixel interleaves.
+    pub const COUNT: u32 = 2;
+
+    /// The place of a pixel's camera sample `j` (counting over all its batches).
+    #[inline]
+    pub fn of(j: u32) -> Self {
+        Self { replicate: j % Self::COUNT, index: j / Self::COUNT }
+    }
+
+    /// Point `index` of this replicate in a pixel's dimension, placed in `[0, 1)²` by
+    /// `pattern`: jittered, the replicate's progressive `sequence`; random, an independent pair
+    /// of the dimension's `points`; grid, the stratum centres of `strata` in turn.
+    #[inline]
+    pub fn place(
+        self,
+        pattern: Pattern,
+        sequence: Progressive,
+        points: Dimension,
+        strata: (u32, u32),
+    ) -> Vec2 {
+        match pattern {
+            Pattern::Jittered => sequence.point(self.index),
+            Pattern::Random => {
+                points.uniform2(self.index.wrapping_mul(Self::COUNT).wrapping_add(self.replicate))
+            }
+            Pattern::Grid => square_point_in(Pattern::Grid, strata, self.index, Vec2::ZERO),
+        }
+    }
 }
 
 impl CameraSample {
     /// A sample that is its pixel's only one (adaptive lattice points, single rays).
     pub fn single(key: SampleKey) -> Self {
-        Self { key, pixel: key, slot: 0, spp: 1 }
+        Self { key, pixel: key, slot: 0, spp: 1, progressive: None }
     }
 }
 
@@ -172,37 +220,64 @@ impl<'a> PathContext<'a> {
         }
     }
 
-    /// This camera sample's share of an effect that takes `n` samples per pixel:
-    /// `ceil(n / spp)` pairs of (stratum of `n`, uniform pair). Across the pixel's camera samples
-    /// the strata are a permutation of `0..n`, so the pixel's samples stay stratified.
-    pub fn effect_samples(&mut self, n: u32) -> EffectSamples {
+    /// This camera sample's share of an effect that takes `n` samples per pixel, its points
+    /// placed in `[0, 1)²` by `pattern`: `ceil(n / spp)` of them.
+    ///
+    /// - In a fixed set, the pixel's `spp` samples share one `pattern` of `n` points: across
+    ///   them the strata are a permutation of `0..n`, so the pixel's points stay stratified.
+    /// - In noise-driven sampling ([`CameraSample::progressive`]), jittered points are the
+    ///   next of the sample's replicate's progressive sequence in this dimension, so however
+    ///   many samples a pixel takes, its points stay stratified; random points are independent;
+    ///   grid points cycle through the `n` stratum centres.
+    pub fn effect_samples(&mut self, n: u32, pattern: Pattern) -> EffectSamples {
         let n = n.max(1);
         let dim = self.stream.take_dim();
         let c = &self.camera;
         let share = n.div_ceil(c.spp);
-        let first = c.slot.wrapping_mul(share);
         let points = Dimension::new(&c.pixel, dim);
+        let (first, source) = match c.progressive {
+            None => (
+                c.slot.wrapping_mul(share),
+                Source::Fixed(Permutation::new(n, points.hash(PERMUTATION_SEED))),
+            ),
+            Some(r) => (
+                r.index.wrapping_mul(share),
+                Source::Progressive(Progressive::new(points, r.replicate), r.replicate),
+            ),
+        };
         EffectSamples {
             points,
             n,
+            strata: strata(n),
+            pattern,
             next: first,
             end: first.wrapping_add(share),
-            order: Permutation::new(n, points.hash(PERMUTATION_SEED)),
+            source,
         }
     }
 }
 
-/// One camera sample's share of an effect's per-pixel samples; see
+/// Where an effect's points come from.
+#[derive(Debug, Clone, Copy)]
+enum Source {
+    /// A fixed set: the order its strata are visited in.
+    Fixed(Permutation),
+    /// Noise-driven sampling: the replicate's sequence, and the replicate.
+    Progressive(Progressive, u32),
+}
+
+/// One camera sample's share of an effect's per-pixel samples, as points in `[0, 1)²`; see
 /// [`PathContext::effect_samples`].
 #[derive(Debug, Clone)]
 pub struct EffectSamples {
-    /// The pixel's points in this effect's dimension.
+    /// The pixel's random pairs in this effect's dimension.
     points: Dimension,
     n: u32,
+    strata: (u32, u32),
+    pattern: Pattern,
     next: u32,
     end: u32,
-    /// The order strata are visited in.
-    order: Permutation,
+    source: Source,
 }
 
 impl EffectSamples {
@@ -218,16 +293,23 @@ impl EffectSamples {
 }
 
 impl Iterator for EffectSamples {
-    type Item = (u32, Vec2);
+    type Item = Vec2;
 
     #[inline]
-    fn next(&mut self) -> Option<(u32, Vec2)> {
+    fn next(&mut self) -> Option<Vec2> {
         if self.next == self.end {
             return None;
         }
         let g = self.next;
         self.next = self.next.wrapping_add(1);
-        Some((self.order.at(g % self.n), self.points.uniform2(g)))
+        Some(match self.source {
+            Source::Fixed(order) => {
+                square_point_in(self.pattern, self.strata, order.at(g % self.n), self.points.uniform2(g))
+            }
+            Source::Progressive(sequence, replicate) => {
+                Replica { replicate, index: g }.place(self.pattern, sequence, self.points, self.strata)
+            }
+        })
     }
 }
 

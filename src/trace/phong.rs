@@ -85,15 +85,15 @@ fn area_light<S: PrimitiveStore>(
     view: Vec3,
     ctx: &mut PathContext<'_>,
 ) -> Vec3 {
-    let samples = ctx.effect_samples(light.samples());
+    let samples = ctx.effect_samples(light.samples(), light.pattern());
     // Each sample stands for `1 / count` of the light as this camera sample sees it.
     let share = 1.0 / samples.taken() as f32;
     if let Some(level) = ctx.packets.filter(|_| samples.taken() as usize >= MIN_LANES) {
         return area_light_packets(scene, light, m, s, view, samples, share, level, ctx);
     }
     let mut colour = Vec3::ZERO;
-    for (stratum, u) in samples {
-        let (to_light, dist, radiance) = light.sample(s.point, stratum, u);
+    for st in samples {
+        let (to_light, dist, radiance) = light.sample(s.point, st);
         let n_dot_l = s.normal.dot(to_light);
         if n_dot_l <= 0.0 || dist <= s.eps {
             continue;
@@ -127,8 +127,8 @@ fn area_light_packets<S: PrimitiveStore>(
         let mut packet = RayPacket::<LANES>::default();
         let mut lit = [(Vec3::ZERO, Vec3::ZERO, 0.0f32); LANES];
         let mut lanes = 0;
-        for (stratum, u) in samples.by_ref() {
-            let (to_light, dist, radiance) = light.sample(s.point, stratum, u);
+        for st in samples.by_ref() {
+            let (to_light, dist, radiance) = light.sample(s.point, st);
             let n_dot_l = s.normal.dot(to_light);
             if n_dot_l <= 0.0 || dist <= s.eps {
                 continue;

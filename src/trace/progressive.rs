@@ -4,27 +4,28 @@
 
 use std::time::Instant;
 
-use glam::DVec3;
 use rayon::prelude::*;
 
 use super::camera_samples::{trace_camera_ray, CameraSampler};
-use super::finite::{DropTally, SampleMean};
+use super::finite::DropTally;
+use super::packet::LANES;
+use super::packet_tile::{shade_packet, BLOCK};
 use super::stats::{NoiseStats, NoiseStop, RayCounts};
 use super::tiles::{assemble, saturate, Assembled, TileResult, TILE};
 use crate::math::Vec3;
-use crate::sample::noise::{next_batches, spread, NoiseSettings, PixelEstimate};
+use crate::sample::noise::{next_batches, pooled, spread, NoiseSettings, PixelEstimate};
+use crate::simd::SimdLevel;
 use crate::store::PrimitiveStore;
 use crate::trace::{RenderSettings, TraceScene};
 
 /// One pixel's samples so far.
 #[derive(Debug, Clone, Copy, Default)]
 struct PixelState {
-    /// Sum of every kept sample, in `f64` (a pixel may take tens of thousands).
-    sum: DVec3,
-    kept: u32,
-    dropped: u32,
-    /// The batch means' sums.
+    /// Each replicate's count and sum of finite samples, in `f64` (a pixel may take tens of
+    /// thousands).
     estimate: PixelEstimate,
+    /// Non-finite samples, left out.
+    dropped: u32,
     /// Batches traced, and the batches this round brings it to.
     batches: u32,
     goal: u32,
@@ -34,10 +35,7 @@ struct PixelState {
 
 impl PixelState {
     fn colour(&self) -> Vec3 {
-        match self.kept {
-            0 => Vec3::ZERO,
-            n => (self.sum / f64::from(n)).as_vec3().min(Vec3::splat(f32::MAX)),
-        }
+        self.estimate.mean().as_vec3().min(Vec3::splat(f32::MAX))
     }
 }
 
@@ -79,6 +77,11 @@ pub(super) fn render_noise<S: PrimitiveStore>(
         })
         .collect();
 
+    // Camera rays go in packets where a fixed render's would (a pinhole, nothing moving), unless
+    // the cost AOV wants each pixel's rays.
+    let packets =
+        (settings.simd.packets() && !want_cost && !scene.camera.has_lens() && scene.motion.is_none())
+            .then(|| settings.simd.resolve());
     let mut rounds = 0;
     let mut errors = vec![0.0f64; w as usize * h as usize];
     let stopped_by = loop {
@@ -86,8 +89,10 @@ pub(super) fn render_noise<S: PrimitiveStore>(
         let traced: u64 = tiles
             .par_iter_mut()
             .map(|tile| {
-                let samples =
-                    crate::simd::with_single_ray_level(settings.simd, || trace_round(&sampler, tile));
+                let samples = crate::simd::with_single_ray_level(settings.simd, || match packets {
+                    Some(level) => trace_round_packets(&sampler, level, tile),
+                    None => trace_round(&sampler, tile),
+                });
                 if rounds == 0 {
                     tile_done();
                 }
@@ -105,6 +110,7 @@ pub(super) fn render_noise<S: PrimitiveStore>(
                 errors[(y * w + x) as usize] = p.estimate.display_error();
             }
         }
+        errors = pooled(&errors, w as usize, h as usize);
         let active = spread(&errors, w as usize, h as usize, target);
         let mut wanted = 0u64;
         for tile in &mut tiles {
@@ -187,23 +193,82 @@ fn trace_round<S: PrimitiveStore>(sampler: &CameraSampler<'_, S>, tile: &mut Til
         let (x, y) = (x0 + k as u32 % tw, y0 + k as u32 / tw);
         let before = tile.rays.total();
         while p.batches < p.goal {
-            let mut mean = SampleMean::default();
             for i in 0..sampler.n {
                 let (ray, camera, time) = sampler.sample_in(x, y, p.batches, i, &mut tile.rays);
                 let c = trace_camera_ray(sampler.scene, sampler.settings, &ray, camera, time, &mut tile.rays);
-                mean.add(c);
-                if c.is_finite() {
-                    p.sum += c.as_dvec3();
-                    p.kept += 1;
-                } else {
-                    p.dropped += 1;
-                }
+                let replicate = camera.progressive.map_or(0, |r| r.replicate);
+                p.estimate.add(replicate, c);
+                p.dropped += u32::from(!c.is_finite());
             }
-            p.estimate.add(if mean.kept() > 0 { mean.mean() } else { Vec3::NAN });
             p.batches += 1;
             samples += u64::from(sampler.n);
         }
         p.rays += tile.rays.total() - before;
+    }
+    samples
+}
+
+/// [`trace_round`] with camera rays in packets: each block of [`BLOCK`] pixels sends its pending
+/// samples as packets of [`LANES`], filled by taking one sample of each pixel in turn, in the
+/// order of each pixel's samples. Every pixel thus adds its samples in the same order as
+/// [`trace_round`], from the same radiance: the same sums, the same bits. Rays are counted for
+/// the tile only (the cost AOV traces single rays).
+fn trace_round_packets<S: PrimitiveStore>(
+    sampler: &CameraSampler<'_, S>,
+    level: SimdLevel,
+    tile: &mut TileState,
+) -> u64 {
+    let [x0, y0, x1, y1] = tile.area;
+    let (tw, n) = (x1 - x0, sampler.n);
+    let mut samples = 0;
+    for by in (y0..y1).step_by(BLOCK[1] as usize) {
+        for bx in (x0..x1).step_by(BLOCK[0] as usize) {
+            // The block's pixels: position, index in the tile, next sample and end (counted
+            // over the pixel's batches).
+            let mut pending: Vec<(u32, u32, usize, u32, u32)> = (0..BLOCK[0] * BLOCK[1])
+                .filter_map(|i| {
+                    let (x, y) = (bx + i % BLOCK[0], by + i / BLOCK[0]);
+                    let k = ((y - y0) * tw + x - x0) as usize;
+                    let p = tile.pixels.get(k).filter(|_| x < x1 && y < y1)?;
+                    (p.goal > p.batches).then_some((x, y, k, p.batches * n, p.goal * n))
+                })
+                .collect();
+            while !pending.is_empty() {
+                let mut owners = [usize::MAX; LANES];
+                let mut lanes = [None; LANES];
+                let mut filled = 0;
+                'fill: loop {
+                    let mut took = false;
+                    for (x, y, k, next, end) in pending.iter_mut() {
+                        if *next < *end {
+                            let (ray, camera, _) =
+                                sampler.sample_in(*x, *y, *next / n, *next % n, &mut tile.rays);
+                            (lanes[filled], owners[filled]) = (Some((ray, camera)), *k);
+                            (*next, filled, took) = (*next + 1, filled + 1, true);
+                            if filled == LANES {
+                                break 'fill;
+                            }
+                        }
+                    }
+                    if !took {
+                        break;
+                    }
+                }
+                for (lane, colour) in
+                    shade_packet(sampler, level, &lanes, &mut tile.rays).into_iter().enumerate()
+                {
+                    let (Some(c), Some((_, camera))) = (colour, lanes[lane]) else { continue };
+                    let p = &mut tile.pixels[owners[lane]];
+                    p.estimate.add(camera.progressive.map_or(0, |r| r.replicate), c);
+                    p.dropped += u32::from(!c.is_finite());
+                }
+                samples += filled as u64;
+                pending.retain(|&(.., next, end)| next < end);
+            }
+        }
+    }
+    for p in &mut tile.pixels {
+        p.batches = p.batches.max(p.goal);
     }
     samples
 }

@@ -52,8 +52,9 @@ pub enum Axis {
     Noise {
         /// Target errors (display units, 0..1).
         targets: Vec<f32>,
-        /// AA samples per batch (default 4: a stratified batch; one sample per batch gives up
-        /// stratification and measured 2-3x worse).
+        /// AA samples per batch (default 4; a pixel's samples are stratified across batches
+        /// whatever the size, which sets how finely a pixel's count grows and how many effect
+        /// samples each camera sample takes).
         #[serde(default = "four")]
         aa: u32,
         /// Camera samples every pixel takes first (default 8).
