@@ -291,7 +291,7 @@ fn the_command_line_turns_it_on_and_reports_it() {
 #[test]
 fn a_pixels_samples_stay_stratified_across_batches() {
     // Every pixel takes 16 batches of one camera sample (target 0, maximum 16). Drawn from
-    // progressive sequences, those 16 samples (two interleaved replicates of 8) are nearly as
+    // progressive sequences, those 16 samples (four interleaved replicates of 4) are nearly as
     // good as a fixed jittered set of 16, and far better than 16 independent points (what
     // independent batches gave before).
     let reference = rendered(&penumbra_scene(64, 1024), 2).0;

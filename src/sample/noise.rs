@@ -3,14 +3,15 @@
 //! effect's budget), until the standard error of its mean, seen on the display, falls below a
 //! target.
 //!
-//! A pixel's samples, counted over all its batches, alternate between two independent
-//! replicates, and each replicate draws every dimension (position, lens, time, each area light
+//! A pixel's samples, counted over all its batches, take four independent replicates in turn,
+//! and each replicate draws every dimension (position, lens, time, each area light
 //! and glossy cone) from a progressive sequence of its own ([`super::sobol`]): whatever the
 //! count a pixel stops at, each replicate's points are stratified over all of its samples, not
-//! only within a batch. The difference of the two replicates' means gives an unbiased estimate
-//! of the variance of the pixel's mean ("two interleaved half sets", as Blender Cycles does);
-//! [`PixelEstimate`] keeps the sums it needs, in `f64`. That estimate has one degree of freedom
-//! per channel, so decisions use it [`pooled`] with the pixel's neighbours'.
+//! only within a batch. The spread of the replicates' means gives an unbiased estimate of the
+//! variance of the pixel's mean (Blender Cycles compares two interleaved half sets; see
+//! [`REPLICATES`] for why four); [`PixelEstimate`] keeps the sums it needs, in `f64`. That
+//! estimate has three degrees of freedom per channel, so decisions use it [`pooled`] with the
+//! pixel's neighbours'.
 //!
 //! The error a viewer sees is the error after the display encoding: the standard error of each
 //! channel times the slope of the sRGB curve at the pixel's value ([`srgb_slope`]), so a dark
@@ -37,7 +38,7 @@ pub struct NoiseSettings {
     /// `max_samples` (or the time limit). Default 0.01.
     pub target_error: f32,
     /// Camera samples every pixel takes first, 1..=65536 (rounded up to whole batches, and to
-    /// at least two samples: one per replicate). Default 16.
+    /// at least one sample per replicate). Default 16.
     pub min_samples: u32,
     /// Camera samples no pixel exceeds, `min_samples..=65536` (rounded up to whole batches).
     /// Default 1024.
@@ -59,7 +60,7 @@ impl Default for NoiseSettings {
 
 impl NoiseSettings {
     /// Batches every pixel takes in round 0: `min_samples` in batches of `batch` camera
-    /// samples, rounded up, and at least two samples (one per replicate: a single sample has no
+    /// samples, rounded up, and at least one sample per replicate (with fewer there is no
     /// spread to estimate from).
     pub fn min_batches(&self, batch: u32) -> u32 {
         let batch = batch.max(1);
@@ -86,20 +87,22 @@ pub fn srgb_slope(v: f64) -> f64 {
 
 /// What a pixel's error estimate needs: per replicate, the count and sum of its finite samples.
 ///
-/// A pixel's samples alternate between [`REPLICATES`] independent replicates, each stratified
-/// on its own ([`crate::sample::sobol`]). The means `m₀`, `m₁` of two independent unbiased
-/// estimates differ by `m₀ − m₁`, whose expected square is the sum of their variances; the
-/// pixel's value, their weighted mean, has variance `E[(m₀ − m₁)²] · n₀n₁ / (n₀ + n₁)²`
-/// (a quarter of it for equal counts). Unlike the spread of independent batches, this does
-/// not ignore the stratification between a pixel's samples.
+/// A pixel's samples take [`REPLICATES`] independent replicates in turn, each stratified on its
+/// own ([`crate::sample::sobol`]). The replicates' means are independent unbiased estimates of
+/// the pixel, so their spread estimates the variance of the pixel's mean without bias (see
+/// [`Self::variance_of_mean`]). Unlike the spread of independent batches, this does not ignore
+/// the stratification between a pixel's samples.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct PixelEstimate {
     count: [u32; REPLICATES],
     sum: [DVec3; REPLICATES],
 }
 
-/// Independent replicates a pixel's samples alternate between.
-pub const REPLICATES: usize = 2;
+/// Independent replicates a pixel's samples take in turn. Two are the classic "interleaved
+/// half sets"; four give three degrees of freedom per channel, which measured far closer to
+/// the true error on edge-dominated images (thin features whose replicates often tie, so two
+/// replicates agreeing by chance stop a pixel early), for a little of the stratification.
+pub const REPLICATES: usize = 4;
 
 impl PixelEstimate {
     /// Adds a sample of replicate `replicate` (a non-finite sample is left out).
@@ -120,19 +123,26 @@ impl PixelEstimate {
     pub fn mean(&self) -> DVec3 {
         match self.samples() {
             0 => DVec3::ZERO,
-            n => (self.sum[0] + self.sum[1]) / f64::from(n),
+            n => self.sum.iter().sum::<DVec3>() / f64::from(n),
         }
     }
 
     /// The variance of the pixel's mean per channel, in linear units squared; infinite while a
-    /// replicate has no sample.
+    /// replicate has no sample. With replicate means `mᵣ` of `nᵣ` samples and the pixel's mean
+    /// `m` of `N`: `Σ nᵣ (mᵣ − m)² / ((R − 1) N)`, which for two replicates is
+    /// `(m₀ − m₁)² n₀n₁ / N²`.
     pub fn variance_of_mean(&self) -> DVec3 {
-        let [n0, n1] = self.count.map(f64::from);
-        if n0 == 0.0 || n1 == 0.0 {
+        if self.count.contains(&0) {
             return DVec3::INFINITY;
         }
-        let d = self.sum[0] / n0 - self.sum[1] / n1;
-        d * d * (n0 * n1 / ((n0 + n1) * (n0 + n1)))
+        let (n, mean) = (f64::from(self.samples()), self.mean());
+        let spread: DVec3 = (0..REPLICATES)
+            .map(|r| {
+                let d = self.sum[r] / f64::from(self.count[r]) - mean;
+                d * d * f64::from(self.count[r])
+            })
+            .sum();
+        spread / ((REPLICATES - 1) as f64 * n)
     }
 
     /// The estimated display error: the largest channel's standard error times the sRGB slope
@@ -149,7 +159,7 @@ impl PixelEstimate {
 
 /// Each pixel's display error pooled with its neighbours': the root of the mean of its own
 /// squared error and the mean squared error of its 3 × 3 neighbourhood (itself included). One
-/// pixel's two replicates give one degree of freedom per channel, a noisy estimate; pooling
+/// pixel's replicates give few degrees of freedom per channel, a noisy estimate; pooling
 /// steadies it while keeping half the weight on the pixel itself. Infinite errors stay infinite.
 pub fn pooled(errors: &[f64], width: usize, height: usize) -> Vec<f64> {
     debug_assert_eq!(errors.len(), width * height);
@@ -213,39 +223,43 @@ mod tests {
     use crate::sample::rng::{hash, SampleKey};
 
     #[test]
-    fn batch_counts_round_up_and_keep_two_for_an_estimate() {
+    fn batch_counts_round_up_and_keep_a_sample_per_replicate() {
+        assert_eq!(REPLICATES, 4, "the counts below are for four replicates");
         let s = NoiseSettings { min_samples: 16, max_samples: 100, ..NoiseSettings::default() };
         assert_eq!((s.min_batches(4), s.max_batches(4)), (4, 25));
-        assert_eq!((s.min_batches(64), s.max_batches(64)), (1, 2), "a batch holds both replicates");
+        assert_eq!((s.min_batches(64), s.max_batches(64)), (1, 2), "a batch holds every replicate");
         assert_eq!((s.min_batches(5), s.max_batches(5)), (4, 20));
         let tiny = NoiseSettings { min_samples: 1, max_samples: 1, ..s };
-        assert_eq!((tiny.min_batches(1), tiny.max_batches(1)), (2, 2), "one sample has no spread");
-        assert_eq!((tiny.min_batches(2), tiny.max_batches(2)), (1, 1));
+        assert_eq!((tiny.min_batches(1), tiny.max_batches(1)), (4, 4), "one sample per replicate");
+        assert_eq!((tiny.min_batches(2), tiny.max_batches(2)), (2, 2));
+        assert_eq!((tiny.min_batches(4), tiny.max_batches(4)), (1, 1));
     }
 
     #[test]
-    fn the_estimate_is_a_quarter_of_the_squared_difference_of_the_replicates() {
+    fn the_estimate_is_the_spread_of_the_replicate_means() {
+        assert_eq!(REPLICATES, 4, "the values below are for four replicates");
         let mut e = PixelEstimate::default();
         assert_eq!(e.display_error(), f64::INFINITY);
-        e.add(0, Vec3::new(0.2, 0.3, 0.3));
-        assert_eq!(e.display_error(), f64::INFINITY, "one replicate has no sample");
-        for (r, m) in [(1, 0.4f32), (0, 0.4), (1, 0.5)] {
+        for (r, m) in [(0, 0.2f32), (1, 0.4), (2, 0.3)] {
             e.add(r, Vec3::new(m, 0.3, 0.3));
         }
+        assert_eq!(e.display_error(), f64::INFINITY, "a replicate has no sample");
+        e.add(3, Vec3::new(0.5, 0.3, 0.3));
         e.add(0, Vec3::NAN);
         assert_eq!(e.samples(), 4);
-        // Replicate means 0.3 and 0.45: the variance of their mean is 0.15² / 4.
+        // One sample per replicate: the means' sample variance (0.05 / 3) over 4.
         let v = e.variance_of_mean();
-        assert!((v.x - 0.15 * 0.15 / 4.0).abs() < 1e-7 && v.y.abs() < 1e-15, "{v}");
-        assert!((e.mean().x - 0.375).abs() < 1e-6);
-        let expected = (0.15 / 2.0) * srgb_slope(0.375);
-        assert!((e.display_error() / expected - 1.0).abs() < 1e-6);
-        // Unequal counts weigh the difference by n0·n1/(n0+n1)²: 2·1/9 here.
+        assert!((v.x - 0.05 / 12.0).abs() < 1e-7 && v.y.abs() < 1e-15, "{v}");
+        assert!((e.mean().x - 0.35).abs() < 1e-6);
+        let expected = (0.05f64 / 12.0).sqrt() * srgb_slope(0.35);
+        assert!((e.display_error() / expected - 1.0).abs() < 1e-5);
+        // Unequal counts weigh each replicate by its count: Σ nᵣ(mᵣ − m)² / ((R − 1) N), with
+        // means 0.2 (two samples), 0.5, 0.3, 0.3 and m = 0.3: 0.06 / 15.
         let mut u = PixelEstimate::default();
-        for (r, m) in [(0, 0.2f32), (0, 0.2), (1, 0.5)] {
+        for (r, m) in [(0, 0.2f32), (0, 0.2), (1, 0.5), (2, 0.3), (3, 0.3)] {
             u.add(r, Vec3::splat(m));
         }
-        assert!((u.variance_of_mean().x - 0.09 * 2.0 / 9.0).abs() < 1e-7);
+        assert!((u.variance_of_mean().x - 0.06 / 15.0).abs() < 1e-7);
     }
 
     #[test]
@@ -259,7 +273,7 @@ mod tests {
             let mut e = PixelEstimate::default();
             for j in 0..n {
                 let bit = hash(&SampleKey { pixel: p, ..SampleKey::default() }, 0, j) >> 63;
-                e.add(j % 2, Vec3::splat(bit as f32));
+                e.add(j % REPLICATES as u32, Vec3::splat(bit as f32));
             }
             total += e.variance_of_mean().x;
         }

@@ -16,8 +16,8 @@
 //!   own, so dimensions are not paired up.
 //!
 //! A [`Progressive`] is one such sequence, seeded by a pixel's [`Dimension`] and a
-//! **replicate** number. Noise-driven sampling interleaves two independent replicates, so that
-//! the difference between their means is an unbiased estimate of the error of their average
+//! **replicate** number. Noise-driven sampling interleaves independent replicates, so that the
+//! spread of their means is an unbiased estimate of the error of their average
 //! (see [`crate::sample::noise`]).
 //!
 //! Everything is integer arithmetic and one exact conversion to `f32`: the same bits on every

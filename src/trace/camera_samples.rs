@@ -130,10 +130,10 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
     }
 
     /// Camera sample `sample` of batch `batch` of the pixel, for noise-driven sampling. The
-    /// pixel's samples, counted over all its batches, alternate between two independent
-    /// replicates ([`Replica`]); each replicate's positions, lens points, times and effect
+    /// pixel's samples, counted over all its batches, take independent replicates in turn
+    /// ([`Replica`]); each replicate's positions, lens points, times and effect
     /// points are the next of its progressive sequences ([`crate::sample::sobol`]), so every
-    /// prefix of either replicate is stratified in every dimension, however many batches the
+    /// prefix of each replicate is stratified in every dimension, however many batches the
     /// pixel takes. Each camera sample takes its own position in the pixel.
     #[inline]
     pub(super) fn sample_in(

@@ -134,7 +134,7 @@ pub struct CameraSample {
 /// its index among that replicate's camera samples.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Replica {
-    /// The replicate (0 or 1: samples alternate between them).
+    /// The replicate (`0..COUNT`: samples take them in turn).
     pub replicate: u32,
     /// The sample's index within its replicate.
     pub index: u32,
@@ -142,7 +142,7 @@ pub struct Replica {
 
 impl Replica {
     /// Independent replicates a noise-driven pixel interleaves.
-    pub const COUNT: u32 = 2;
+    pub const COUNT: u32 = crate::sample::noise::REPLICATES as u32;
 
     /// The place of a pixel's camera sample `j` (counting over all its batches).
     #[inline]
