@@ -36,20 +36,20 @@ const REPLICATE_SEEDS: u32 = u32::MAX - 1;
 
 /// Point `i` of Sobol's first two dimensions, as 32-bit binary fractions: the first is the
 /// van der Corput radical inverse (the bits of `i` reversed), the second applies the generator
-/// matrix whose direction numbers are `v₀ = 2³¹`, `v_{k+1} = v_k ^ (v_k >> 1)` (Pascal's
-/// triangle mod 2).
+/// matrix whose direction numbers are `v₀ = 2³¹`, `v_{k+1} = v_k ^ (v_k >> 1)`: Pascal's
+/// triangle mod 2, so digit `j` (from the top) is the parity of the bits `k ⊇ j` of `i`
+/// (Lucas: `C(k, j)` is odd exactly when `j`'s bits are among `k`'s). That superset parity is
+/// five shift-and-xor steps over all 32 bits at once, not a loop over `i`'s bits (a shuffled
+/// index has all 32).
 #[inline]
-pub fn sobol2(mut i: u32) -> (u32, u32) {
-    let x = i.reverse_bits();
-    let (mut y, mut v) = (0u32, 1u32 << 31);
-    while i != 0 {
-        if i & 1 != 0 {
-            y ^= v;
-        }
-        i >>= 1;
-        v ^= v >> 1;
-    }
-    (x, y)
+pub fn sobol2(i: u32) -> (u32, u32) {
+    let mut a = i;
+    a ^= (a >> 1) & 0x5555_5555;
+    a ^= (a >> 2) & 0x3333_3333;
+    a ^= (a >> 4) & 0x0f0f_0f0f;
+    a ^= (a >> 8) & 0x00ff_00ff;
+    a ^= (a >> 16) & 0x0000_ffff;
+    (i.reverse_bits(), a.reverse_bits())
 }
 
 /// Vegdahl's Laine–Karras style hash: every output bit depends only on the input bits at or
@@ -141,6 +141,30 @@ mod tests {
         for (i, &(x, y)) in expected.iter().enumerate() {
             let (sx, sy) = sobol2(i as u32);
             assert_eq!((unit(sx), unit(sy)), (x, y), "point {i}");
+        }
+    }
+
+    #[test]
+    fn the_second_dimension_equals_its_direction_numbers() {
+        // The textbook construction: xor the direction number of every set bit of i.
+        let by_directions = |mut i: u32| {
+            let (mut y, mut v) = (0u32, 1u32 << 31);
+            while i != 0 {
+                if i & 1 != 0 {
+                    y ^= v;
+                }
+                i >>= 1;
+                v ^= v >> 1;
+            }
+            y
+        };
+        let mut i = 0u32;
+        for k in 0..100_000u32 {
+            assert_eq!(sobol2(i).1, by_directions(i), "i = {i:#x}");
+            i = i.wrapping_mul(0x9e37_79b9).wrapping_add(k); // spread over all 32 bits
+        }
+        for i in (0..4096).chain([u32::MAX, 1 << 31, 0xdead_beef]) {
+            assert_eq!(sobol2(i).1, by_directions(i), "i = {i:#x}");
         }
     }
 
