@@ -4,7 +4,7 @@
 //!
 //! Then the same for noise-driven sampling on `effects_soft_shadows` (batches of one AA
 //! sample, target 0.01): the image beside its cost AOV, in `docs/noise_cost.png` (or beside
-//! OUT, as `OUT-noise.png`): the samples gather in the penumbrae.
+//! OUT, as `OUT-noise.png`): the samples gather at the silhouettes.
 
 use std::path::{Path, PathBuf};
 
