@@ -209,10 +209,10 @@ impl Light {
         }
     }
 
-    /// The point `st` of `[0, 1)²` (placed by the light's pattern: see
-    /// [`PathContext::effect_samples`](super::path::PathContext::effect_samples)) on an area
-    /// light, as (direction from `p`, distance, the light's whole radiance). The caller
-    /// averages over the samples it takes. Point and directional lights ignore `st`.
+    /// The point `st` of `[0, 1)²` (placed by the light's [`Self::pattern`] among the pixel's
+    /// shadow samples) on an area light, as (direction from `p`, distance, the light's whole
+    /// radiance). The caller averages over the samples it takes. Point and directional lights
+    /// ignore `st`.
     #[inline]
     pub fn sample(&self, p: Vec3, st: Vec2) -> (Vec3, f32, Vec3) {
         match *self {
