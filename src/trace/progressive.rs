@@ -89,10 +89,31 @@ pub(super) fn render_noise<S: PrimitiveStore>(
         let traced: u64 = tiles
             .par_iter_mut()
             .map(|tile| {
-                let samples = crate::simd::with_single_ray_level(settings.simd, || match packets {
-                    Some(level) => trace_round_packets(&sampler, level, tile),
-                    None => trace_round(&sampler, tile),
-                });
+                // Strips of a tile in parallel too: in late rounds a few tiles hold all the
+                // pending work.
+                let [x0, y0, x1, y1] = tile.area;
+                let (samples, rays) = tile
+                    .pixels
+                    .par_chunks_mut((STRIP * (x1 - x0)) as usize)
+                    .enumerate()
+                    .map(|(i, pixels)| {
+                        let top = y0 + i as u32 * STRIP;
+                        let strip = [x0, top, x1, (top + STRIP).min(y1)];
+                        let mut rays = RayCounts::default();
+                        let samples = crate::simd::with_single_ray_level(settings.simd, || match packets {
+                            Some(level) => trace_round_packets(&sampler, level, strip, pixels, &mut rays),
+                            None => trace_round(&sampler, strip, pixels, &mut rays),
+                        });
+                        (samples, rays)
+                    })
+                    .reduce(
+                        || (0, RayCounts::default()),
+                        |(a, mut rays), (b, more)| {
+                            rays.add(&more);
+                            (a + b, rays)
+                        },
+                    );
+                tile.rays.add(&rays);
                 if rounds == 0 {
                     tile_done();
                 }
@@ -184,18 +205,27 @@ pub(super) fn render_noise<S: PrimitiveStore>(
     (image, stats)
 }
 
-/// Traces every pixel of `tile` up to its goal, batch by batch; the camera samples traced.
-fn trace_round<S: PrimitiveStore>(sampler: &CameraSampler<'_, S>, tile: &mut TileState) -> u64 {
-    let [x0, y0, x1, _] = tile.area;
+/// Rows of a tile traced as one task of a round: a block of packets high.
+const STRIP: u32 = BLOCK[1];
+
+/// Traces every pixel of the strip `area` (`pixels`, row-major) up to its goal, batch by
+/// batch, counting its rays into `rays`; the camera samples traced.
+fn trace_round<S: PrimitiveStore>(
+    sampler: &CameraSampler<'_, S>,
+    area: [u32; 4],
+    pixels: &mut [PixelState],
+    rays: &mut RayCounts,
+) -> u64 {
+    let [x0, y0, x1, _] = area;
     let tw = x1 - x0;
     let mut samples = 0;
-    for (k, p) in tile.pixels.iter_mut().enumerate() {
+    for (k, p) in pixels.iter_mut().enumerate() {
         let (x, y) = (x0 + k as u32 % tw, y0 + k as u32 / tw);
-        let before = tile.rays.total();
+        let before = rays.total();
         while p.batches < p.goal {
             for i in 0..sampler.n {
-                let (ray, camera, time) = sampler.sample_in(x, y, p.batches, i, &mut tile.rays);
-                let c = trace_camera_ray(sampler.scene, sampler.settings, &ray, camera, time, &mut tile.rays);
+                let (ray, camera, time) = sampler.sample_in(x, y, p.batches, i, rays);
+                let c = trace_camera_ray(sampler.scene, sampler.settings, &ray, camera, time, rays);
                 let replicate = camera.progressive.map_or(0, |r| r.replicate);
                 p.estimate.add(replicate, c);
                 p.dropped += u32::from(!c.is_finite());
@@ -203,22 +233,24 @@ fn trace_round<S: PrimitiveStore>(sampler: &CameraSampler<'_, S>, tile: &mut Til
             p.batches += 1;
             samples += u64::from(sampler.n);
         }
-        p.rays += tile.rays.total() - before;
+        p.rays += rays.total() - before;
     }
     samples
 }
 
-/// [`trace_round`] with camera rays in packets: each block of [`BLOCK`] pixels sends its pending
+/// [`trace_round`] with camera rays in packets: each block of [`BLOCK`] pixels of the strip sends its pending
 /// samples as packets of [`LANES`], filled by taking one sample of each pixel in turn, in the
 /// order of each pixel's samples. Every pixel thus adds its samples in the same order as
 /// [`trace_round`], from the same radiance: the same sums, the same bits. Rays are counted for
-/// the tile only (the cost AOV traces single rays).
+/// the strip only (the cost AOV traces single rays).
 fn trace_round_packets<S: PrimitiveStore>(
     sampler: &CameraSampler<'_, S>,
     level: SimdLevel,
-    tile: &mut TileState,
+    area: [u32; 4],
+    pixels: &mut [PixelState],
+    rays: &mut RayCounts,
 ) -> u64 {
-    let [x0, y0, x1, y1] = tile.area;
+    let [x0, y0, x1, y1] = area;
     let (tw, n) = (x1 - x0, sampler.n);
     let mut samples = 0;
     for by in (y0..y1).step_by(BLOCK[1] as usize) {
@@ -229,7 +261,7 @@ fn trace_round_packets<S: PrimitiveStore>(
                 .filter_map(|i| {
                     let (x, y) = (bx + i % BLOCK[0], by + i / BLOCK[0]);
                     let k = ((y - y0) * tw + x - x0) as usize;
-                    let p = tile.pixels.get(k).filter(|_| x < x1 && y < y1)?;
+                    let p = pixels.get(k).filter(|_| x < x1 && y < y1)?;
                     (p.goal > p.batches).then_some((x, y, k, p.batches * n, p.goal * n))
                 })
                 .collect();
@@ -241,8 +273,7 @@ fn trace_round_packets<S: PrimitiveStore>(
                     let mut took = false;
                     for (x, y, k, next, end) in pending.iter_mut() {
                         if *next < *end {
-                            let (ray, camera, _) =
-                                sampler.sample_in(*x, *y, *next / n, *next % n, &mut tile.rays);
+                            let (ray, camera, _) = sampler.sample_in(*x, *y, *next / n, *next % n, rays);
                             (lanes[filled], owners[filled]) = (Some((ray, camera)), *k);
                             (*next, filled, took) = (*next + 1, filled + 1, true);
                             if filled == LANES {
@@ -254,11 +285,9 @@ fn trace_round_packets<S: PrimitiveStore>(
                         break;
                     }
                 }
-                for (lane, colour) in
-                    shade_packet(sampler, level, &lanes, &mut tile.rays).into_iter().enumerate()
-                {
+                for (lane, colour) in shade_packet(sampler, level, &lanes, rays).into_iter().enumerate() {
                     let (Some(c), Some((_, camera))) = (colour, lanes[lane]) else { continue };
-                    let p = &mut tile.pixels[owners[lane]];
+                    let p = &mut pixels[owners[lane]];
                     p.estimate.add(camera.progressive.map_or(0, |r| r.replicate), c);
                     p.dropped += u32::from(!c.is_finite());
                 }
@@ -267,7 +296,7 @@ fn trace_round_packets<S: PrimitiveStore>(
             }
         }
     }
-    for p in &mut tile.pixels {
+    for p in pixels.iter_mut() {
         p.batches = p.batches.max(p.goal);
     }
     samples
