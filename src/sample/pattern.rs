@@ -41,17 +41,20 @@ fn floor_sqrt(n: u32) -> u32 {
 }
 
 /// The `[lo, hi)` bounds of cell `i` of `cells` equal cells of `[0, 1)`, as `f32`.
+#[inline]
 fn cell_bounds(i: u32, cells: u32) -> (f32, f32) {
     let size = cells as f32;
     (i as f32 / size, (i + 1) as f32 / size)
 }
 
 /// The largest float below `x` (for `x > 0`).
+#[inline]
 fn prev_float(x: f32) -> f32 {
     f32::from_bits(x.to_bits() - 1)
 }
 
 /// Places `u ∈ [0,1)` inside cell `i` of `cells`, strictly below the cell's upper bound.
+#[inline]
 fn jitter_in_cell(i: u32, cells: u32, u: f32) -> f32 {
     let (lo, hi) = cell_bounds(i, cells);
     (lo + u * (hi - lo)).clamp(lo, prev_float(hi))
