@@ -224,18 +224,17 @@ pub(super) fn stratum_time(pattern: Pattern, k: u32, n: u32, u: f32) -> f32 {
 }
 
 /// Where in the pixel (in pixel units from its top-left corner) sample `i` of `n` lands. A
-/// single sample goes through the pixel's centre, unless `batched`: one of many batches of
-/// noise-driven sampling (or one of a lens's samples at AA 1), which together must cover the
-/// footprint.
+/// single sample goes through the pixel's centre, unless `cover`: it is one of a lens's (or a
+/// shutter's) samples at AA 1, which together must cover the footprint.
 pub(super) fn pixel_offset(
     aa: &AntiAliasing,
     n: u32,
     strata: (u32, u32),
     i: u32,
     u: Vec2,
-    batched: bool,
+    cover: bool,
 ) -> Vec2 {
-    if n == 1 && !batched {
+    if n == 1 && !cover {
         return Vec2::splat(0.5);
     }
     filtered(aa, square_point_in(aa.pattern, strata, i, u))

@@ -8,6 +8,7 @@ use super::integrator::{radiance_at, ShadingPoint};
 use super::packet::{closest_hits, shadow_passes, LANES, MIN_LANES};
 use super::path::{CameraSample, PathContext, ShadowHint, HINTED_LIGHTS};
 use super::scene::TraceScene;
+use super::settings::RenderSettings;
 use super::stats::RayCounts;
 use super::tiles::TileOut;
 use crate::math::{Ray, RayPacket, Vec3, SHADOW_EPSILON};
@@ -59,6 +60,20 @@ pub(super) fn packet_tile<S: PrimitiveStore>(
             }
         }
     }
+}
+
+/// The level camera rays are traced in packets at, where they are: `None` for single rays.
+/// Packets need no per-pixel ray counts; the cost AOV (`want_cost`), which does, traces single
+/// rays. So do lens cameras: each lane's lens point differs, so a block's rays do not form a
+/// frustum worth walking (measured: 20 % slower on effects_dof); shadow packets remain. Motion
+/// blur gives every lane its own time: single rays. Fixed and noise-driven renders both ask here.
+pub(super) fn camera_packets<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    settings: &RenderSettings,
+    want_cost: bool,
+) -> Option<SimdLevel> {
+    (settings.simd.packets() && !want_cost && !scene.camera.has_lens() && scene.motion.is_none())
+        .then(|| settings.simd.resolve())
 }
 
 /// Traces the camera rays of `lanes` (a lane with none stays empty) as one packet: their first

@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use super::camera_samples::{trace_camera_ray, CameraSampler};
 use super::finite::DropTally;
 use super::packet::LANES;
-use super::packet_tile::{shade_packet, BLOCK};
+use super::packet_tile::{camera_packets, shade_packet, BLOCK};
 use super::stats::{NoiseStats, NoiseStop, RayCounts};
 use super::tiles::{assemble, saturate, Assembled, TileResult, TILE};
 use crate::math::Vec3;
@@ -77,11 +77,7 @@ pub(super) fn render_noise<S: PrimitiveStore>(
         })
         .collect();
 
-    // Camera rays go in packets where a fixed render's would (a pinhole, nothing moving), unless
-    // the cost AOV wants each pixel's rays.
-    let packets =
-        (settings.simd.packets() && !want_cost && !scene.camera.has_lens() && scene.motion.is_none())
-            .then(|| settings.simd.resolve());
+    let packets = camera_packets(scene, settings, want_cost);
     let mut rounds = 0;
     let mut errors = vec![0.0f64; w as usize * h as usize];
     let stopped_by = loop {

@@ -20,7 +20,7 @@ use std::time::Instant;
 use super::aov::first_hit_aovs;
 use super::camera_samples::{fixed_pixel, CameraSampler};
 use super::corners::render_adaptive;
-use super::packet_tile::packet_tile;
+use super::packet_tile::{camera_packets, packet_tile};
 use super::scene::TraceScene;
 use super::settings::RenderSettings;
 use super::stats::{
@@ -73,16 +73,7 @@ pub fn render_observed<S: PrimitiveStore>(
             noise_stats = stats;
             (image, AdaptiveCounts::default())
         }
-        // Packets need no per-pixel ray counts; the cost AOV, which does, traces single rays. So
-        // do lens cameras: each lane's lens point differs, so a block's rays do not form a
-        // frustum worth walking (measured: 20 % slower on effects_dof). Shadow packets remain.
-        // Motion blur gives every lane its own time: single rays.
-        (None, None)
-            if settings.simd.packets()
-                && !wanted.cost
-                && !scene.camera.has_lens()
-                && scene.motion.is_none() =>
-        {
+        (None, None) if camera_packets(scene, settings, wanted.cost).is_some() => {
             let level = settings.simd.resolve();
             let sampler = CameraSampler::new(scene, settings);
             let tile = |area: [u32; 4], rays: &mut RayCounts, out: &mut TileOut| {
