@@ -41,13 +41,17 @@ pub(super) fn packet_tile<S: PrimitiveStore>(
                 (x < x1 && y < y1).then_some((x, y))
             };
             for sample in 0..n {
-                let lanes = std::array::from_fn(|lane| {
-                    pixel(lane).map(|(x, y)| {
-                        let (ray, camera, _) = sampler.sample(x, y, sample, rays);
-                        (ray, camera)
-                    })
-                });
-                for (mean, colour) in means.iter_mut().zip(shade_packet(sampler, level, &lanes, rays)) {
+                let mut packet = RayPacket::<LANES>::default();
+                let mut cameras = [None; LANES];
+                for (lane, camera) in cameras.iter_mut().enumerate() {
+                    if let Some((x, y)) = pixel(lane) {
+                        let (ray, key, _) = sampler.sample(x, y, sample, rays);
+                        packet.set(lane, &ray, 0.0, f32::INFINITY);
+                        *camera = Some(key);
+                    }
+                }
+                let colours = shade_packet(sampler, level, &packet, &cameras, rays);
+                for (mean, colour) in means.iter_mut().zip(colours) {
                     if let Some(colour) = colour {
                         mean.add(colour);
                     }
@@ -76,29 +80,26 @@ pub(super) fn camera_packets<S: PrimitiveStore>(
         .then(|| settings.simd.resolve())
 }
 
-/// Traces the camera rays of `lanes` (a lane with none stays empty) as one packet: their first
-/// hits found together ([`closest_hits`], compiled for `level`), the shadow rays of those hits
-/// towards point and directional lights traced together, and each lane shaded on its own from
-/// its hit. Each lane's radiance, the same bits as the lane's ray traced alone.
+/// Traces a packet of camera rays (`packet`, whose lane holds a ray where `cameras` holds its
+/// camera sample): their first hits found together ([`closest_hits`], compiled for `level`),
+/// the shadow rays of those hits towards point and directional lights traced together, and
+/// each lane shaded on its own from its hit. Each lane's radiance, the same bits as the lane's
+/// ray traced alone.
+#[inline]
 pub(super) fn shade_packet<S: PrimitiveStore>(
     sampler: &CameraSampler<'_, S>,
     level: SimdLevel,
-    lanes: &[Option<(Ray, CameraSample)>; LANES],
+    packet: &RayPacket<LANES>,
+    cameras: &[Option<CameraSample>; LANES],
     rays: &mut RayCounts,
 ) -> [Option<Vec3>; LANES] {
     let (scene, settings) = (sampler.scene, sampler.settings);
-    let mut packet = RayPacket::<LANES>::default();
-    for (lane, camera) in lanes.iter().enumerate() {
-        if let Some((ray, _)) = camera {
-            packet.set(lane, ray, 0.0, f32::INFINITY);
-        }
-    }
     let mut cost = TraversalCost::default();
     let hits = level.run(
         #[inline(always)]
-        || closest_hits(scene, &packet, &mut cost),
+        || closest_hits(scene, packet, &mut cost),
     );
-    let lane_cost = cost.per_ray(lanes.iter().flatten().count() as u32);
+    let lane_cost = cost.per_ray(cameras.iter().flatten().count() as u32);
     // Each hit's surface, found once: the shadow packets start from it, and so does the lane's
     // shading.
     let surfaces: [Option<ShadingPoint>; LANES] = std::array::from_fn(|lane| {
@@ -107,7 +108,7 @@ pub(super) fn shade_packet<S: PrimitiveStore>(
     });
     let hints = point_light_shadows(scene, &surfaces, level, rays);
     std::array::from_fn(|lane| {
-        let (_, camera) = lanes[lane]?;
+        let camera = cameras[lane]?;
         let mut ctx = PathContext::new(settings, camera, rays);
         ctx.shadow_hint = hints[lane];
         ctx.surface_hint = surfaces[lane];

@@ -12,7 +12,7 @@ use super::packet::LANES;
 use super::packet_tile::{camera_packets, shade_packet, BLOCK};
 use super::stats::{NoiseStats, NoiseStop, RayCounts};
 use super::tiles::{assemble, saturate, Assembled, TileResult, TILE};
-use crate::math::Vec3;
+use crate::math::{RayPacket, Vec3};
 use crate::sample::noise::{next_batches, pooled, spread, NoiseSettings, PixelEstimate};
 use crate::simd::SimdLevel;
 use crate::store::PrimitiveStore;
@@ -263,14 +263,16 @@ fn trace_round_packets<S: PrimitiveStore>(
                 .collect();
             while !pending.is_empty() {
                 let mut owners = [usize::MAX; LANES];
-                let mut lanes = [None; LANES];
+                let mut packet = RayPacket::<LANES>::default();
+                let mut cameras = [None; LANES];
                 let mut filled = 0;
                 'fill: loop {
                     let mut took = false;
                     for (x, y, k, next, end) in pending.iter_mut() {
                         if *next < *end {
                             let (ray, camera, _) = sampler.sample_in(*x, *y, *next / n, *next % n, rays);
-                            (lanes[filled], owners[filled]) = (Some((ray, camera)), *k);
+                            packet.set(filled, &ray, 0.0, f32::INFINITY);
+                            (cameras[filled], owners[filled]) = (Some(camera), *k);
                             (*next, filled, took) = (*next + 1, filled + 1, true);
                             if filled == LANES {
                                 break 'fill;
@@ -281,8 +283,9 @@ fn trace_round_packets<S: PrimitiveStore>(
                         break;
                     }
                 }
-                for (lane, colour) in shade_packet(sampler, level, &lanes, rays).into_iter().enumerate() {
-                    let (Some(c), Some((_, camera))) = (colour, lanes[lane]) else { continue };
+                let colours = shade_packet(sampler, level, &packet, &cameras, rays);
+                for (lane, colour) in colours.into_iter().enumerate() {
+                    let (Some(c), Some(camera)) = (colour, cameras[lane]) else { continue };
                     let p = &mut pixels[owners[lane]];
                     p.estimate.add(camera.progressive.map_or(0, |r| r.replicate), c);
                     p.dropped += u32::from(!c.is_finite());
