@@ -230,7 +230,9 @@ impl Permutation {
     #[inline]
     pub fn at(self, index: u32) -> u32 {
         let Self { l, w, p, offset } = self;
-        let mut i = index % l;
+        // Callers mostly pass an index already below `l`: a predictable branch spares them a
+        // division.
+        let mut i = if index < l { index } else { index % l };
         // Every step is a bijection on the low bits under the mask `w`, so the loop visits a
         // cycle of that bijection and stops at the first element inside `0..l`.
         loop {

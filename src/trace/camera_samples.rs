@@ -102,7 +102,9 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
                 pixel_offset(&settings.aa, self.n, self.lens_strata, k, positions.uniform2(k), true)
             }
             false => {
-                let i = sample / (self.n_lens * self.n_time);
+                // Most scenes take one camera sample per AA position: no division then.
+                let per = self.n_lens * self.n_time;
+                let i = if per == 1 { sample } else { sample / per };
                 let u = uniform2(&patterns, dims::PIXEL, i);
                 pixel_offset(&settings.aa, self.n_aa, self.aa_strata, i, u, false)
             }
