@@ -231,18 +231,24 @@ fn adaptive_lattice_points_take_their_share_of_the_lens_samples() {
     let mut reference = focal_plane_scene(8.0, 0.3);
     reference.camera.lens.samples = 1024;
     let (reference, _) = render_desc(&reference);
-    adaptive.settings.adaptive = Some(scene::AdaptiveSettings { threshold: 0.05, max_depth: 2 });
-    let (refined, stats) = render_desc(&adaptive);
-    // The fixed render with at least the adaptive render's rays.
-    let mut fixed = focal_plane_scene(8.0, 0.3);
-    fixed.camera.lens.samples = (stats.rays.lens as u32).div_ceil(48 * 48);
-    let (fixed, fixed_stats) = render_desc(&fixed);
-    assert!(fixed_stats.rays.lens >= stats.rays.lens);
-    let (a, f) = (rmse(&refined, &reference), rmse(&fixed, &reference));
-    // Corners alone (16 lens samples each, 49² of them) are closer still: deeper points take
-    // 4, then 1, and their noise reads as contrast (left for the spread-aware criterion).
-    assert!(rmse(&corners_only, &reference) < f, "{} against fixed {f}", rmse(&corners_only, &reference));
-    assert!(a <= f, "adaptive RMSE {a} against fixed {f} with as many rays");
+    let mut last = f32::INFINITY;
+    for (threshold, max_depth) in [(0.05, 2), (0.02, 3), (0.01, 3)] {
+        adaptive.settings.adaptive = Some(scene::AdaptiveSettings { threshold, max_depth });
+        let (refined, stats) = render_desc(&adaptive);
+        // The fixed render with at least the adaptive render's rays.
+        let mut fixed = focal_plane_scene(8.0, 0.3);
+        fixed.camera.lens.samples = (stats.rays.lens as u32).div_ceil(48 * 48);
+        let (fixed, fixed_stats) = render_desc(&fixed);
+        assert!(fixed_stats.rays.lens >= stats.rays.lens);
+        let (a, f) = (rmse(&refined, &reference), rmse(&fixed, &reference));
+        // Corners alone (16 lens samples each, 49² of them) are closer than fixed too.
+        assert!(rmse(&corners_only, &reference) < f, "{} against fixed {f}", rmse(&corners_only, &reference));
+        // Deeper points take 4 lens samples, then 1: their noise must not read as contrast,
+        // and must not outweigh the corners' 16, or a lower threshold traces more for less.
+        assert!(a <= f, "{threshold}:{max_depth}: adaptive RMSE {a} against fixed {f} with as many rays");
+        assert!(a <= last * 1.02, "{threshold}:{max_depth}: RMSE {a} after {last} at a higher threshold");
+        last = a;
+    }
 }
 
 #[test]
@@ -415,5 +421,40 @@ fn every_effect_on_gives_identical_bytes_on_one_and_two_threads() {
             })
             .into();
         assert!(images[0] == images[1], "adaptive {adaptive}: 1 and 2 threads differ");
+    }
+}
+
+#[test]
+fn adaptive_depth_of_field_is_never_worse_than_fixed_with_as_many_rays_at_any_threshold() {
+    // The shipped depth-of-field scene, small: defocused spheres before and behind the focal
+    // plane. A corner takes 16 lens samples, a level-1 point 4, deeper points 1: the spread of
+    // a point's samples tells its noise from an edge, and a leaf weights its corners by their
+    // samples, so lowering the threshold refines edges without buying noise.
+    let mut d = desc(include_str!("../scenes/effects_dof.ron"));
+    (d.camera.width, d.camera.height) = (96, 72);
+    let with_lens = |samples: u32| {
+        let mut fixed = d.clone();
+        fixed.camera.lens.samples = samples;
+        render_desc(&fixed)
+    };
+    let (reference, _) = with_lens(256);
+    // The fixed curve through 16 and 64 lens samples (square strata both), read log-log at
+    // the adaptive render's rays, as `penumbra report` reads equal-error savings.
+    let fixed: Vec<(f64, f64)> = [16, 64]
+        .map(|n| {
+            let (image, stats) = with_lens(n);
+            ((stats.rays.lens as f64).ln(), f64::from(rmse(&image, &reference)).ln())
+        })
+        .to_vec();
+    let slope = (fixed[1].1 - fixed[0].1) / (fixed[1].0 - fixed[0].0);
+    assert!(slope < -0.3, "the fixed curve falls with rays (slope {slope})");
+    for threshold in [0.1, 0.05, 0.02] {
+        let mut adaptive = d.clone();
+        adaptive.settings.adaptive = Some(scene::AdaptiveSettings { threshold, max_depth: 3 });
+        let (refined, stats) = render_desc(&adaptive);
+        let rays = stats.rays.lens as f64;
+        let f = (fixed[0].1 + slope * (rays.ln() - fixed[0].0)).exp();
+        let a = f64::from(rmse(&refined, &reference));
+        assert!(a <= f, "{threshold}:3: adaptive RMSE {a} against fixed {f} at its {rays} lens rays");
     }
 }

@@ -13,7 +13,7 @@ pub mod rng;
 pub mod sobol;
 pub mod warp;
 
-pub use adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint};
+pub use adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint, PointSample};
 pub use noise::NoiseSettings;
 pub use pattern::{disk_point, sample_square, square_point, square_points, strata};
 pub use rng::{hash, permute, uniform, uniform2, SampleKey, SampleStream};

@@ -13,12 +13,13 @@ use super::settings::RenderSettings;
 use super::stats::{AdaptiveCounts, RayCounts};
 use super::tiles::{assemble, saturate, Assembled, TileResult, TILE};
 use crate::math::Vec3;
-use crate::sample::adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint};
+use crate::sample::adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint, PointSample};
 use crate::sample::dims;
 use crate::sample::pattern::{disk_point, disk_point_in, strata};
 use crate::sample::rng::{permute, Dimension, SampleKey};
 use crate::sample::Pattern;
 use crate::store::PrimitiveStore;
+use glam::DVec3;
 
 /// Adaptive supersampling: the `(W+1) × (H+1)` pixel corners first (each traced once), then
 /// every pixel refined by corner subdivision, tiles in parallel with a cache per tile. In the
@@ -38,7 +39,7 @@ pub(super) fn render_adaptive<S: PrimitiveStore>(
     };
 
     // Pass 1: the corner lattice, rows in parallel, with each corner's ray count.
-    let rows: Vec<(Vec<Vec3>, Vec<u32>, RayCounts)> = (0..=h)
+    let rows: Vec<(Vec<PointSample>, Vec<u32>, RayCounts)> = (0..=h)
         .into_par_iter()
         .map(|cy| {
             let mut rays = RayCounts::default();
@@ -105,19 +106,19 @@ pub(super) fn render_adaptive<S: PrimitiveStore>(
     (image, counts)
 }
 
-/// The colour at a lattice point (image position `p / res`): its share of the pixel's camera
-/// samples. A point first needed at subdivision level `l` stands for `4^-l` of a pixel, and
-/// takes that share of the lens samples (with an aperture) and of the time samples (where
-/// something moves), each at least one, stratified over the point's samples; effect budgets
-/// are scaled to the same area. Pixel corners (level 0) take them all, as a fixed render's
-/// pixel does. A pure function of the point's coordinates.
+/// The colour at a lattice point (image position `p / res`), and the spread of its samples:
+/// its share of the pixel's camera samples. A point first needed at subdivision level `l`
+/// stands for `4^-l` of a pixel, and takes that share of the lens samples (with an aperture)
+/// and of the time samples (where something moves), each at least one, stratified over the
+/// point's samples; effect budgets are scaled to the same area. Pixel corners (level 0) take
+/// them all, as a fixed render's pixel does. A pure function of the point's coordinates.
 pub(super) fn lattice_sample<S: PrimitiveStore>(
     scene: &TraceScene<S>,
     settings: &RenderSettings,
     res: u32,
     p: LatticePoint,
     rays: &mut RayCounts,
-) -> Vec3 {
+) -> PointSample {
     let id = u64::from(p.y) * (u64::from(settings.width) * u64::from(res) + 1) + u64::from(p.x);
     let key =
         SampleKey { seed: settings.seed, frame: settings.frame, pixel: id as u32, sample: (id >> 32) as u32 };
@@ -142,6 +143,7 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
         (times_dim.hash(dims::PIXEL_PATTERNS - 1), lens_dim.hash(dims::PIXEL_PATTERNS - 1));
     let lens_strata = strata(m);
     let mut mean = SampleMean::default();
+    let mut spread = Spread::default();
     for j in 0..m {
         // Sample 0 keeps the point's own key and draws; the others get keys of their own.
         let index = dims::PIXEL_PATTERNS - 2 * j;
@@ -177,11 +179,42 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
         };
         let camera =
             CameraSample { key: own, pixel: key, slot: j, spp: spp.saturating_mul(m), progressive: None };
-        mean.add(trace_camera_ray(scene, settings, &ray, camera, time, rays));
+        let colour = trace_camera_ray(scene, settings, &ray, camera, time, rays);
+        mean.add(colour);
+        spread.add(colour);
     }
     // A point none of whose samples is finite is non-finite, so refinement drops and counts it.
-    match mean.dropped() == m {
+    let colour = match mean.dropped() == m {
         true => Vec3::NAN,
         false => mean.mean(),
+    };
+    PointSample { colour, samples: mean.kept().max(1), spread: spread.variance() }
+}
+
+/// The running per-channel variance of a point's finite samples (Welford's update, in `f64`).
+#[derive(Debug, Clone, Copy, Default)]
+struct Spread {
+    n: u32,
+    mean: DVec3,
+    m2: DVec3,
+}
+
+impl Spread {
+    /// Counts `c`, unless a channel is not finite.
+    fn add(&mut self, c: Vec3) {
+        if !c.is_finite() {
+            return;
+        }
+        let c = c.as_dvec3();
+        self.n += 1;
+        let delta = c - self.mean;
+        self.mean += delta / f64::from(self.n);
+        self.m2 += delta * (c - self.mean);
+    }
+
+    /// The unbiased variance of one sample, from two samples or more; finite (a spread past
+    /// `f32` is as large as `f32` holds).
+    fn variance(&self) -> Option<Vec3> {
+        (self.n >= 2).then(|| (self.m2 / f64::from(self.n - 1)).as_vec3().min(Vec3::splat(f32::MAX)))
     }
 }
