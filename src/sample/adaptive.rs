@@ -539,31 +539,17 @@ mod tests {
     #[test]
     fn a_leaf_weights_its_corners_by_their_samples_and_equal_counts_keep_the_equal_mean() {
         let settings = AdaptiveSettings { threshold: f32::INFINITY, max_depth: 3 };
-        let mut trace = |_: LatticePoint| -> PointSample { panic!("nothing splits") };
+        let leaf = |corners: [PointSample; 4]| {
+            let mut trace = |_: LatticePoint| -> PointSample { panic!("nothing splits") };
+            let mut stats = AdaptiveStats::default();
+            refine_pixel(0, 0, corners, &settings, &mut HashMap::new(), &mut trace, &mut stats)
+        };
         let corners = [noisy(1.0, 16, 0.0), noisy(0.0, 4, 0.0), noisy(0.0, 4, 0.0), noisy(0.0, 4, 0.0)];
-        let c = refine_pixel(
-            0,
-            0,
-            corners,
-            &settings,
-            &mut HashMap::new(),
-            &mut trace,
-            &mut AdaptiveStats::default(),
-        );
-        assert_eq!(c, Vec3::splat(16.0 / 28.0));
+        assert_eq!(leaf(corners), Vec3::splat(16.0 / 28.0));
         // Equal counts: the bits of the plain mean, as the seed's rule gives.
         let colours = [0.1f32, 0.7, 0.3, 0.9].map(Vec3::splat);
         let corners = colours.map(|c| PointSample { colour: c, samples: 4, spread: None });
-        let c = refine_pixel(
-            0,
-            0,
-            corners,
-            &settings,
-            &mut HashMap::new(),
-            &mut trace,
-            &mut AdaptiveStats::default(),
-        );
-        assert_eq!(c, (colours[0] + colours[1] + colours[2] + colours[3]) / 4.0);
+        assert_eq!(leaf(corners), (colours[0] + colours[1] + colours[2] + colours[3]) / 4.0);
     }
 
     #[test]
