@@ -179,48 +179,32 @@ fn square_spread(c: &[PointSample; 4], inherited: Option<Vec3>) -> Option<Vec3> 
     c.iter().filter_map(|p| p.spread).reduce(Vec3::max).or(inherited)
 }
 
-/// The mean of `values`, all finite, with the bits of `(v0 + v1 + …) / n`; where that sum
-/// overflows, the mean of `v / n` instead (finite: at most the largest value). `None` when empty.
-fn finite_mean(values: &[Vec3]) -> Option<Vec3> {
-    let (&first, rest) = values.split_first()?;
-    let n = values.len() as f32;
-    let mean = rest.iter().fold(first, |sum, &v| sum + v) / n;
+/// The mean of `values`, (colour, weight) pairs, all finite, weights at least 1:
+/// `(w₀v₀ + w₁v₁ + …) / Σw`, which for unit weights has the bits of the plain mean
+/// `(v₀ + v₁ + …) / n`; where that sum overflows, `Σ v / Σw · w` instead (finite: at most the
+/// largest value). `None` when empty.
+fn finite_mean(values: &[(Vec3, f32)]) -> Option<Vec3> {
+    let (&(first, w), rest) = values.split_first()?;
+    let total = rest.iter().fold(w, |t, &(_, w)| t + w);
+    let mean = rest.iter().fold(first * w, |sum, &(v, w)| sum + v * w) / total;
     if mean.is_finite() {
         return Some(mean);
     }
-    Some(values.iter().fold(Vec3::ZERO, |sum, &v| sum + v / n).min(Vec3::splat(f32::MAX)))
+    Some(values.iter().fold(Vec3::ZERO, |sum, &(v, w)| sum + v / total * w).min(Vec3::splat(f32::MAX)))
 }
 
-/// The finite ones of four samples, in order, and how many there are.
-fn finite_of(c: [PointSample; 4]) -> ([PointSample; 4], usize) {
-    let mut kept = [PointSample::single(Vec3::ZERO); 4];
+/// A leaf square's finite corners, each weighted by the camera samples it averages (so that a
+/// corner of many samples is not drowned by a deeper one of few: with area weights, a square
+/// split once would have about the same variance as before it split), and how many there are.
+/// Without a lens or a shutter every weight is 1 and the leaf is the plain mean.
+fn leaf_corners(c: [PointSample; 4]) -> ([(Vec3, f32); 4], usize) {
+    let mut kept = [(Vec3::ZERO, 1.0); 4];
     let mut n = 0;
-    for v in c.into_iter().filter(|v| v.colour.is_finite()) {
-        kept[n] = v;
+    for p in c.into_iter().filter(|p| p.colour.is_finite()) {
+        kept[n] = (p.colour, p.samples.max(1) as f32);
         n += 1;
     }
     (kept, n)
-}
-
-/// A leaf square's colour from its finite corners `kept`: each corner weighted by the samples
-/// it averages, so that a corner of many samples is not drowned by a deeper one of few (with
-/// area weights, a square split once would have a noisier mean than before it split). Corners
-/// of equal samples (always, without a lens or a shutter) take [`finite_mean`]'s equal
-/// weights, bit for bit. `None` when empty.
-fn leaf_mean(kept: &[PointSample]) -> Option<Vec3> {
-    let first = kept.first()?;
-    if kept.iter().all(|p| p.samples == first.samples) {
-        let mut colours = [Vec3::ZERO; 4];
-        kept.iter().zip(&mut colours).for_each(|(p, c)| *c = p.colour);
-        return finite_mean(&colours[..kept.len()]);
-    }
-    let total: f32 = kept.iter().map(|p| p.samples as f32).sum();
-    let mean = kept.iter().fold(Vec3::ZERO, |sum, p| sum + p.colour * p.samples as f32) / total;
-    if mean.is_finite() {
-        return Some(mean);
-    }
-    let weighted = kept.iter().fold(Vec3::ZERO, |sum, p| sum + p.colour * (p.samples as f32 / total));
-    Some(weighted.min(Vec3::splat(f32::MAX)))
 }
 
 /// The recursion's fixed context: one pixel's refinement.
@@ -275,9 +259,9 @@ impl<P: Copy + Into<PointSample>, F: FnMut(LatticePoint) -> P> Refiner<'_, P, F>
     ) -> Option<Vec3> {
         let spread = square_spread(&c, inherited);
         if level >= self.depth || !self.splits(&c, spread) {
-            let (kept, n) = finite_of(c);
+            let (kept, n) = leaf_corners(c);
             self.stats.dropped += (4 - n) as u64;
-            return leaf_mean(&kept[..n]);
+            return finite_mean(&kept[..n]);
         }
         self.stats.subdivisions += 1;
         let h = size / 2;
@@ -291,9 +275,9 @@ impl<P: Copy + Into<PointSample>, F: FnMut(LatticePoint) -> P> Refiner<'_, P, F>
         let tr = self.square(x + h, y, h, [top, c[1], centre, right], level + 1, spread);
         let bl = self.square(x, y + h, h, [left, centre, c[2], bottom], level + 1, spread);
         let br = self.square(x + h, y + h, h, [centre, right, bottom, c[3]], level + 1, spread);
-        let (mut kept, mut n) = ([Vec3::ZERO; 4], 0);
+        let (mut kept, mut n) = ([(Vec3::ZERO, 1.0); 4], 0);
         for q in [tl, tr, bl, br].into_iter().flatten() {
-            kept[n] = q;
+            kept[n] = (q, 1.0);
             n += 1;
         }
         finite_mean(&kept[..n])
@@ -546,7 +530,7 @@ mod tests {
         };
         let corners = [noisy(1.0, 16, 0.0), noisy(0.0, 4, 0.0), noisy(0.0, 4, 0.0), noisy(0.0, 4, 0.0)];
         assert_eq!(leaf(corners), Vec3::splat(16.0 / 28.0));
-        // Equal counts: the bits of the plain mean, as the seed's rule gives.
+        // Equal counts weigh alike: the plain mean (the same bits, for a power of two).
         let colours = [0.1f32, 0.7, 0.3, 0.9].map(Vec3::splat);
         let corners = colours.map(|c| PointSample { colour: c, samples: 4, spread: None });
         assert_eq!(leaf(corners), (colours[0] + colours[1] + colours[2] + colours[3]) / 4.0);
@@ -584,10 +568,14 @@ mod tests {
     #[test]
     fn colours_near_the_largest_float_average_without_overflow() {
         let big = Vec3::splat(3e38);
-        assert_eq!(finite_mean(&[big; 4]), Some(big));
-        assert_eq!(finite_mean(&[big, big, Vec3::ZERO]), Some(Vec3::splat(2e38)));
-        assert_eq!(finite_mean(&[Vec3::splat(f32::MAX); 3]).map(|m| m.is_finite()), Some(true));
+        let unit = |v: Vec3| (v, 1.0);
+        assert_eq!(finite_mean(&[unit(big); 4]), Some(big));
+        assert_eq!(finite_mean(&[unit(big), unit(big), unit(Vec3::ZERO)]), Some(Vec3::splat(2e38)));
+        assert_eq!(finite_mean(&[unit(Vec3::splat(f32::MAX)); 3]).map(|m| m.is_finite()), Some(true));
         assert_eq!(finite_mean(&[]), None);
+        // Weights that overflow the weighted sum: the fallback stays finite and right.
+        let weighted = finite_mean(&[(big, 16.0), (big, 4.0), (Vec3::ZERO, 4.0)]).unwrap();
+        assert!((weighted / 2.5e38 - Vec3::ONE).abs().max_element() < 1e-6, "{weighted}");
         // Ordinary colours keep the bits of the plain sum times a quarter.
         let c = [
             Vec3::new(0.1, 0.7, 1e-3),
@@ -595,7 +583,7 @@ mod tests {
             Vec3::splat(0.9),
             Vec3::new(2.5, 0.0, 0.3),
         ];
-        assert_eq!(finite_mean(&c), Some((c[0] + c[1] + c[2] + c[3]) * 0.25));
+        assert_eq!(finite_mean(&c.map(unit)), Some((c[0] + c[1] + c[2] + c[3]) * 0.25));
         let settings = AdaptiveSettings { threshold: f32::MAX, max_depth: 3 };
         let mut trace = |_: LatticePoint| -> Vec3 { panic!("a flat pixel traces nothing") };
         let (mut cache, mut stats) = (HashMap::new(), AdaptiveStats::default());
