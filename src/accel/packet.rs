@@ -12,9 +12,10 @@
 //!
 //! Each slice also hands the sink its *footprint*: the box of the walking lanes' points in the
 //! slice, widened by the same margin plus the rounding of the kernels' differences from the
-//! origins. A sink may decline an object whose bounds miss it (mesh triangles do: a mesh
-//! cell holds about twenty triangles of which the packet's few lanes meet only some), and a
-//! declined object stays out of the mailbox, so it is offered again in any later slice.
+//! origins. A sink may decline the objects whose bounds miss it (mesh triangles do: a mesh
+//! cell holds about twenty triangles of which the packet's few lanes meet only some). It
+//! screens a whole cell's ids at once ([`PacketSink::candidates`]), without a branch per id;
+//! a declined object stays out of the mailbox, so it is offered again in any later slice.
 
 // Lane loops index several parallel lane arrays by the same lane number.
 #![allow(clippy::needless_range_loop)]
@@ -26,12 +27,22 @@ use crate::math::{Aabb, RayPacket, Vec3};
 pub trait PacketSink<const N: usize> {
     /// Each lane's current search bound (its nearest hit so far).
     fn bound(&self) -> &[f32; N];
-    /// Tests object `id` against the `live` lanes, or declines it: `footprint` holds every
-    /// point of the live lanes within the slice being searched (widened by the rounding margin),
-    /// so an object whose bounds miss it cannot be hit there. Returns whether the object was
-    /// tested; one declined is offered again in every later slice whose cells hold it.
-    fn visit(&mut self, id: u32, live: &[bool; N], footprint: &Aabb) -> bool;
+    /// Which of `ids` (at most 64, one cell's) the walk should offer to [`PacketSink::visit`]:
+    /// bit `k` for `ids[k]`. `footprint` holds every point of the live lanes within the slice
+    /// being searched (widened by the rounding margin), so an object whose bounds miss it cannot
+    /// be hit there; one declined is screened again in every later slice whose cells hold it.
+    /// By default every id is a candidate.
+    #[inline(always)]
+    fn candidates(&self, ids: &[u32], footprint: &Aabb) -> u64 {
+        let _ = footprint;
+        u64::MAX >> (64 - ids.len())
+    }
+    /// Tests object `id` against the `live` lanes.
+    fn visit(&mut self, id: u32, live: &[bool; N]);
 }
+
+/// Most ids [`PacketSink::candidates`] screens at once.
+pub const SCREEN: usize = 64;
 
 /// Widening of a slice's rectangle, as a fraction of a cell: covers the rounding of the lanes'
 /// coordinates wherever it is smaller than this.
@@ -278,16 +289,26 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
             for cv in r.v[0]..=r.v[1] {
                 for cu in r.u[0]..=r.u[1] {
                     let cell = (s * sk + cu * su + cv * sv) as u32;
-                    clearance = clearance.min(grid.skip.get(cell as usize).copied().unwrap_or(0));
+                    let skip = grid.skip.get(cell as usize).copied().unwrap_or(0);
+                    clearance = clearance.min(skip);
+                    if skip > 0 {
+                        continue;
+                    }
                     let prims = grid.cell_prims(cell);
                     if prims.is_empty() {
                         continue;
                     }
                     *cells += 1;
-                    for &id in prims {
-                        let slot = &mut mail[id as usize % MAILBOX];
-                        if *slot != id && sink.visit(id, &walking, &r.footprint) {
-                            *slot = id;
+                    for ids in prims.chunks(SCREEN) {
+                        let mut todo = sink.candidates(ids, &r.footprint);
+                        while todo != 0 {
+                            let id = ids[todo.trailing_zeros() as usize];
+                            todo &= todo - 1;
+                            let slot = &mut mail[id as usize % MAILBOX];
+                            if *slot != id {
+                                sink.visit(id, &walking);
+                                *slot = id;
+                            }
                         }
                     }
                 }

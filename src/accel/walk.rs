@@ -58,6 +58,9 @@ pub fn nearest_by_cell<H, T: Tally>(
             break;
         }
         tally.cell();
+        if grid.known_empty(span.cell) {
+            continue;
+        }
         if let Some((t, hit)) = test(grid.cell_prims(span.cell), bound, tally) {
             bound = t;
             best = Some(hit);
@@ -96,7 +99,7 @@ pub fn any_by_cell<T: Tally>(
 ) -> bool {
     for span in GridWalk::skipping(grid, ray, t_min, t_max) {
         tally.cell();
-        if test(grid.cell_prims(span.cell), tally) {
+        if !grid.known_empty(span.cell) && test(grid.cell_prims(span.cell), tally) {
             return true;
         }
     }

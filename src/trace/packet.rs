@@ -25,7 +25,7 @@
 
 use super::scene::TraceScene;
 use crate::accel::packet::{coherent_walk, PacketSink};
-use crate::math::{Aabb, RayPacket, Vec3};
+use crate::math::{RayPacket, Vec3};
 use crate::store::{PacketHits, PrimitiveStore, TraversalCost};
 
 /// Rays per packet: 4 × 4 neighbouring pixels (measured against other widths by
@@ -59,9 +59,8 @@ pub fn closest_hits<const N: usize, S: PrimitiveStore>(
             &self.hits.t
         }
         #[inline(always)]
-        fn visit(&mut self, id: u32, live: &[bool; N], _: &Aabb) -> bool {
+        fn visit(&mut self, id: u32, live: &[bool; N]) {
             self.store.intersect_bounded_packet(id, self.packet, live, &mut self.hits, &mut self.cost);
-            true
         }
     }
     let store = &scene.store;
@@ -118,7 +117,7 @@ pub fn occluded<const N: usize, S: PrimitiveStore>(
             &self.bound
         }
         #[inline(always)]
-        fn visit(&mut self, id: u32, live: &[bool; N], _: &Aabb) -> bool {
+        fn visit(&mut self, id: u32, live: &[bool; N]) {
             let mut open = [false; N];
             for i in 0..N {
                 open[i] = live[i] & !self.occluded[i];
@@ -130,7 +129,6 @@ pub fn occluded<const N: usize, S: PrimitiveStore>(
                     self.bound[i] = f32::NEG_INFINITY;
                 }
             }
-            true
         }
     }
     let store = &scene.store;
@@ -207,7 +205,7 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
             &self.bound
         }
         #[inline(always)]
-        fn visit(&mut self, id: u32, live: &[bool; N], _: &Aabb) -> bool {
+        fn visit(&mut self, id: u32, live: &[bool; N]) {
             let k = match self.met.iter().position(|m| m.id == id) {
                 Some(k) => k,
                 None => {
@@ -246,7 +244,6 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
                     }
                 }
             }
-            true
         }
     }
     let (mut pass, open) = planes_part(scene, packet, cost);
