@@ -438,38 +438,79 @@ fn shadow_packet(rng: &mut StdRng, shared_origin: bool) -> RayPacket<LANES> {
     p
 }
 
+/// Shadow packets on an opaque `scene` against single rays, lane for lane, at every level;
+/// returns the lanes traced and how many were blocked.
+fn check_shadows<S: PrimitiveStore>(scene: &TraceScene<S>, seed: u64) -> (usize, usize) {
+    assert!(!scene.effects.transmission, "the fixture is opaque");
+    let (mut lanes, mut blocked) = (0, 0);
+    let mut rng = rng(seed ^ 0x5eed);
+    for round in 0..200 {
+        let p = shadow_packet(&mut rng, round % 2 == 0);
+        let want: Vec<bool> = (0..LANES)
+            .map(|i| {
+                p.active[i] && penumbra::trace::transmittance(scene, &p.ray(i), p.t_max[i]) == Vec3::ZERO
+            })
+            .collect();
+        for level in [SimdLevel::Baseline, SimdLevel::Auto] {
+            let got = level.run(
+                #[inline(always)]
+                || occluded(scene, &p, &mut TraversalCost::default()),
+            );
+            for i in 0..LANES {
+                assert_eq!(got[i] && p.active[i], want[i], "seed {seed}, round {round}, lane {i} ({level})");
+            }
+        }
+        lanes += p.active.iter().filter(|&&a| a).count();
+        blocked += want.iter().filter(|&&b| b).count();
+    }
+    (lanes, blocked)
+}
+
 #[test]
 fn shadow_packets_block_exactly_the_lanes_single_rays_find_blocked() {
     let (mut lanes, mut blocked) = (0, 0);
     for seed in 0..4 {
-        let scene = scene::<penumbra::store::SoaStore>(seed);
-        assert!(!scene.effects.transmission, "the fixture is opaque");
-        let mut rng = rng(seed ^ 0x5eed);
-        for round in 0..200 {
-            let p = shadow_packet(&mut rng, round % 2 == 0);
-            let want: Vec<bool> = (0..LANES)
-                .map(|i| {
-                    p.active[i] && penumbra::trace::transmittance(&scene, &p.ray(i), p.t_max[i]) == Vec3::ZERO
-                })
-                .collect();
-            for level in [SimdLevel::Baseline, SimdLevel::Auto] {
-                let got = level.run(
-                    #[inline(always)]
-                    || occluded(&scene, &p, &mut TraversalCost::default()),
-                );
-                for i in 0..LANES {
-                    assert_eq!(
-                        got[i] && p.active[i],
-                        want[i],
-                        "seed {seed}, round {round}, lane {i} ({level})"
-                    );
-                }
-            }
-            lanes += p.active.iter().filter(|&&a| a).count();
-            blocked += want.iter().filter(|&&b| b).count();
-        }
+        let (l, b) = check_shadows(&scene::<penumbra::store::SoaStore>(seed), seed);
+        lanes += l;
+        blocked += b;
     }
     assert!(blocked * 5 > lanes && blocked * 5 < lanes * 4, "{blocked} blocked of {lanes}");
+}
+
+/// 3,000 small spheres, a dozen or more to a top-level cell (density 0.1).
+fn sphere_cloud<S: PrimitiveStore>() -> TraceScene<S> {
+    let mut rng = rng(0xc10d);
+    let objects: Vec<PlacedObject> = (0..3000)
+        .map(|_| {
+            let centre = point_in(&mut rng, Vec3::splat(-5.0), Vec3::splat(5.0)).as_dvec3();
+            let radius = rng.random_range(0.03f32..0.12);
+            PlacedObject {
+                geometry: Shape::Sphere { centre, radius }.place(&glam::DAffine3::IDENTITY, DVec3::ZERO),
+                material: MaterialId(0),
+            }
+        })
+        .collect();
+    TraceScene::build(
+        &objects,
+        common::tables_with(vec![Material::default()], Vec3::new(0.0, 0.0, 30.0)),
+        0.1,
+    )
+}
+
+/// Packet walks screen a top-level cell's spheres by the slice's footprint
+/// (`PrimitiveStore::may_meet`): most spheres of a crowded cell are passed by. Every lane must
+/// still find the single ray's hit, and every shadow lane the single ray's blocker.
+#[test]
+fn packets_through_a_cloud_of_small_spheres_equal_single_rays() {
+    let soa = sphere_cloud::<penumbra::store::SoaStore>();
+    let cells = soa.grid.cell_count();
+    let stored = soa.grid.prim_ids.len();
+    assert!(stored >= 10 * cells, "the fixture should crowd the cells: {stored} ids in {cells} cells");
+    let (lanes, hits) = check(&soa, 7);
+    assert!(hits * 10 > lanes && hits * 10 < lanes * 9, "{hits} hits of {lanes} lanes");
+    check(&sphere_cloud::<AosStore>(), 8);
+    let (lanes, blocked) = check_shadows(&soa, 9);
+    assert!(blocked * 10 > lanes && blocked * 10 < lanes * 9, "{blocked} blocked of {lanes}");
 }
 
 proptest! {

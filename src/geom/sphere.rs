@@ -8,6 +8,21 @@ pub fn bounds(centre: Vec3, radius: f32) -> Aabb {
     Aabb::new(centre - Vec3::splat(radius), centre + Vec3::splat(radius))
 }
 
+/// False only where the sphere certainly misses the closed box `b`: its bounds, widened by
+/// their own rounding (a few ulps of the largest coordinate), miss it. Branch-free, for packets
+/// screening a cell's objects against a slice's footprint.
+#[inline(always)]
+pub fn bounds_meet(centre: Vec3, radius: f32, b: &Aabb) -> bool {
+    let reach = radius + 4.0 * f32::EPSILON * (centre.abs().max_element() + radius);
+    let (lo, hi) = (centre - Vec3::splat(reach), centre + Vec3::splat(reach));
+    (lo.x <= b.max.x)
+        & (lo.y <= b.max.y)
+        & (lo.z <= b.max.z)
+        & (b.min.x <= hi.x)
+        & (b.min.y <= hi.y)
+        & (b.min.z <= hi.z)
+}
+
 /// Nearest hit of a ray with a sphere within `(t_min, t_max)`, for a direction of any non-zero
 /// length; `t` is in units of the direction's length (the hit is `origin + t·dir`).
 ///
@@ -261,6 +276,36 @@ pub fn intersect_lanes<const N: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn bounds_meet_every_box_the_sphere_touches_and_screen_out_boxes_it_misses() {
+        // Boxes touching the sphere exactly (on a face, at the pole) and far from the origin,
+        // where the bounds' own rounding matters; then boxes clearly apart.
+        let cases = [(Vec3::ZERO, 1.0), (Vec3::new(1e5, -3e4, 7.0), 0.01), (Vec3::splat(-2.5), 1e-4)];
+        for (c, r) in cases {
+            for axis in 0..3 {
+                for sign in [-1.0f32, 1.0] {
+                    let mut pole = c;
+                    pole[axis] += sign * r;
+                    let touching = Aabb::new(pole, pole);
+                    assert!(bounds_meet(c, r, &touching), "{c} {r}: pole box on axis {axis}");
+                    let mut away = pole;
+                    away[axis] += sign * (r + c.abs().max_element() * 1e-3 + 1e-3);
+                    let apart = Aabb::new(away, away + Vec3::splat(sign.max(0.0)));
+                    assert!(!bounds_meet(c, r, &apart), "{c} {r}: box beyond the pole on axis {axis}");
+                }
+            }
+        }
+        // Conservative against the exact test on a lattice of boxes around a sphere.
+        let (c, r) = (Vec3::new(0.3, -0.2, 0.1), 0.7);
+        for i in 0..400 {
+            let lo = Vec3::new((i % 7) as f32, (i / 7 % 7) as f32, (i / 49) as f32) * 0.3 - 1.2;
+            let b = Aabb::new(lo, lo + Vec3::splat(0.25));
+            if overlaps_box(c, r, &b) {
+                assert!(bounds_meet(c, r, &b), "box {b:?}");
+            }
+        }
+    }
 
     #[test]
     fn head_on_hit_is_distance_minus_radius_and_inside_hit_is_exit() {

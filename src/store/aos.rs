@@ -237,6 +237,14 @@ impl PrimitiveStore for AosStore {
     }
 
     #[inline(always)]
+    fn may_meet(&self, id: u32, footprint: &crate::math::Aabb) -> bool {
+        match &self.objects[id as usize].shape {
+            AosShape::Sphere { centre, radius } => sphere::bounds_meet(*centre, *radius, footprint),
+            _ => true,
+        }
+    }
+
+    #[inline(always)]
     fn occludes_bounded_packet<const N: usize>(
         &self,
         id: u32,

@@ -214,6 +214,14 @@ pub trait PrimitiveStore: Send + Sync + Sized + std::fmt::Debug + 'static {
     fn occludes_bounded<T: Tally>(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32, cost: &mut T) -> bool {
         self.intersect_bounded(id, ray, t_min, t_max, cost).is_some()
     }
+    /// False only where bounded object `id` certainly meets nothing in the closed box
+    /// `footprint` (a sphere whose bounds miss it): packet walks screen a cell's objects against
+    /// the slice's footprint with this. By default every object may meet it.
+    #[inline(always)]
+    fn may_meet(&self, id: u32, footprint: &crate::math::Aabb) -> bool {
+        let _ = (id, footprint);
+        true
+    }
     /// The packet form of [`PrimitiveStore::intersect_bounded`]: each `live` lane's nearest hit
     /// with bounded object `id` within `(t_min, hits.t)` goes into `hits`. Lane for lane the
     /// same hits as the single-ray method (this default calls it per lane).

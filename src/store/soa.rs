@@ -259,6 +259,16 @@ impl PrimitiveStore for SoaStore {
     }
 
     #[inline(always)]
+    fn may_meet(&self, id: u32, footprint: &crate::math::Aabb) -> bool {
+        let o = id as usize;
+        if self.kind[o] != Kind::Sphere {
+            return true;
+        }
+        let i = self.first[o] as usize;
+        sphere::bounds_meet(self.centre.get(i), self.radius[i], footprint)
+    }
+
+    #[inline(always)]
     fn occludes_bounded_packet<const N: usize>(
         &self,
         id: u32,

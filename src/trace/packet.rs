@@ -25,7 +25,7 @@
 
 use super::scene::TraceScene;
 use crate::accel::packet::{coherent_walk, PacketSink};
-use crate::math::{RayPacket, Vec3};
+use crate::math::{Aabb, RayPacket, Vec3};
 use crate::store::{PacketHits, PrimitiveStore, TraversalCost};
 
 /// Rays per packet: 4 × 4 neighbouring pixels (measured against other widths by
@@ -57,6 +57,10 @@ pub fn closest_hits<const N: usize, S: PrimitiveStore>(
         #[inline(always)]
         fn bound(&self) -> &[f32; N] {
             &self.hits.t
+        }
+        #[inline(always)]
+        fn candidates(&self, ids: &[u32], footprint: &Aabb) -> u64 {
+            screen(self.store, ids, footprint)
         }
         #[inline(always)]
         fn visit(&mut self, id: u32, live: &[bool; N]) {
@@ -115,6 +119,10 @@ pub fn occluded<const N: usize, S: PrimitiveStore>(
         #[inline(always)]
         fn bound(&self) -> &[f32; N] {
             &self.bound
+        }
+        #[inline(always)]
+        fn candidates(&self, ids: &[u32], footprint: &Aabb) -> u64 {
+            screen(self.store, ids, footprint)
         }
         #[inline(always)]
         fn visit(&mut self, id: u32, live: &[bool; N]) {
@@ -305,6 +313,18 @@ fn planes_part<const N: usize, S: PrimitiveStore>(
         });
     }
     (pass, open)
+}
+
+/// The objects of a top-level cell (`ids`, at most 64) that may meet a slice's `footprint`
+/// ([`PrimitiveStore::may_meet`]), as a [`PacketSink::candidates`] mask: a cell of small
+/// spheres holds many that a packet's few rays pass by.
+#[inline(always)]
+fn screen<S: PrimitiveStore>(store: &S, ids: &[u32], footprint: &Aabb) -> u64 {
+    let mut mask = 0u64;
+    for (k, &id) in ids.iter().enumerate() {
+        mask |= u64::from(store.may_meet(id, footprint)) << k;
+    }
+    mask
 }
 
 /// True when the `open` lanes' origins are scattered over more than two cells (shadow rays from
