@@ -80,10 +80,11 @@ impl Aabb {
         self.max - self.min
     }
 
-    /// True when the closed boxes share at least one point.
+    /// True when the closed boxes share at least one point. Branch-free (all six comparisons,
+    /// one mask), so packet walks can screen a cell's objects with it without a branch each.
     #[inline]
     pub fn overlaps(&self, other: &Aabb) -> bool {
-        self.min.cmple(other.max).all() && other.min.cmple(self.max).all()
+        (self.min.cmple(other.max) & other.min.cmple(self.max)).bitmask() == 0b111
     }
 
     /// The box holding this box after an affine map (all eight corners transformed).

@@ -42,7 +42,7 @@ pub trait PacketSink<const N: usize> {
 }
 
 /// Most ids [`PacketSink::candidates`] screens at once.
-pub const SCREEN: usize = 64;
+const SCREEN: usize = 64;
 
 /// Widening of a slice's rectangle, as a fraction of a cell: covers the rounding of the lanes'
 /// coordinates wherever it is smaller than this.

@@ -14,13 +14,7 @@ pub fn bounds(centre: Vec3, radius: f32) -> Aabb {
 #[inline(always)]
 pub fn bounds_meet(centre: Vec3, radius: f32, b: &Aabb) -> bool {
     let reach = radius + 4.0 * f32::EPSILON * (centre.abs().max_element() + radius);
-    let (lo, hi) = (centre - Vec3::splat(reach), centre + Vec3::splat(reach));
-    (lo.x <= b.max.x)
-        & (lo.y <= b.max.y)
-        & (lo.z <= b.max.z)
-        & (b.min.x <= hi.x)
-        & (b.min.y <= hi.y)
-        & (b.min.z <= hi.z)
+    b.overlaps(&bounds(centre, reach))
 }
 
 /// Nearest hit of a ray with a sphere within `(t_min, t_max)`, for a direction of any non-zero

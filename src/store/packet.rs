@@ -67,20 +67,10 @@ pub fn mesh_hits<const N: usize, L: TriangleLayout>(
         /// triangle (about half of a cell's pass, so a branch would often be mispredicted).
         #[inline(always)]
         fn candidates(&self, ids: &[u32], footprint: &Aabb) -> u64 {
-            let (lo, hi) = (footprint.min, footprint.max);
             let mut mask = 0u64;
             for (k, &id) in ids.iter().enumerate() {
                 let [a, b, c] = self.triangles.vertices(id);
-                let bounds = crate::geom::triangle::bounds(a, b, c);
-                let (min, max) = (bounds.min, bounds.max);
-                // `Aabb::overlaps`, with `&` for `&&`.
-                let meets = (min.x <= hi.x)
-                    & (min.y <= hi.y)
-                    & (min.z <= hi.z)
-                    & (lo.x <= max.x)
-                    & (lo.y <= max.y)
-                    & (lo.z <= max.z);
-                mask |= u64::from(meets) << k;
+                mask |= u64::from(footprint.overlaps(&crate::geom::triangle::bounds(a, b, c))) << k;
             }
             mask
         }
