@@ -251,6 +251,33 @@ impl<const N: usize> RayPacket<N> {
         self.active[i] = true;
     }
 
+    /// Puts `ray` in lane `i` as [`Self::set`] does, but leaves its reciprocal direction for
+    /// [`Self::reciprocals`] to work out together with the other lanes'.
+    #[inline]
+    pub fn put(&mut self, i: usize, ray: &Ray, t_min: f32, t_max: f32) {
+        for axis in 0..3 {
+            self.origin[axis][i] = ray.origin[axis];
+            self.dir[axis][i] = ray.dir[axis];
+        }
+        self.t_min[i] = t_min;
+        self.t_max[i] = t_max;
+        self.active[i] = true;
+    }
+
+    /// The reciprocal direction of every active lane, worked out lane by lane so that the
+    /// lanes' divisions share instructions: the same bits as [`Self::set`] gives (inactive
+    /// lanes get 0). Inline it into a [`crate::simd::SimdLevel::run`] closure to get the
+    /// level's vectors.
+    #[inline(always)]
+    pub fn reciprocals(&mut self) {
+        for axis in 0..3 {
+            for i in 0..N {
+                let inv = 1.0 / self.dir[axis][i];
+                self.inv_dir[axis][i] = if self.active[i] { inv } else { 0.0 };
+            }
+        }
+    }
+
     /// The ray in lane `i`.
     #[inline]
     pub fn ray(&self, i: usize) -> Ray {

@@ -24,6 +24,7 @@ mod fuzz_regressions;
 mod grid;
 mod hard_rays;
 mod invariants;
+mod lanes;
 mod materials;
 mod memory;
 mod mesh;

@@ -96,6 +96,83 @@ pub fn square_point_in(pattern: Pattern, (nx, ny): (u32, u32), i: u32, u: Vec2) 
     p.clamp(Vec2::ZERO, Vec2::splat(ONE_MINUS_EPSILON))
 }
 
+/// [`square_point_in`] of `N` points at once: lane `k` is `square_point_in(pattern, strata,
+/// i[k], Vec2::new(ux[k], uy[k]))` for `ux[k]` and `uy[k]` in `[0, 1)`, the same bits, worked out lane by lane so that the lanes'
+/// divisions share instructions. Inline it into a [`crate::simd::SimdLevel::run`] closure to
+/// get the level's vectors.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
+pub fn square_points_in<const N: usize>(
+    pattern: Pattern,
+    (nx, ny): (u32, u32),
+    i: &[u32; N],
+    ux: &[f32; N],
+    uy: &[f32; N],
+) -> [Vec2; N] {
+    let n = nx * ny;
+    let (mut ix, mut iy) = ([0u32; N], [0u32; N]);
+    for k in 0..N {
+        let i = i[k] - quotient(i[k], n) * n;
+        iy[k] = quotient(i, nx);
+        ix[k] = i - iy[k] * nx;
+    }
+    // Each axis in loops of its own, the pattern chosen outside them: loops the compiler
+    // vectorises.
+    let (x, y) = (axis_points(pattern, &ix, nx, ux), axis_points(pattern, &iy, ny, uy));
+    std::array::from_fn(|k| Vec2::new(x[k], y[k]))
+}
+
+/// One axis of [`square_points_in`]: the coordinates of `N` points in cells `cell` of
+/// `cells`, with random inputs `u`.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
+fn axis_points<const N: usize>(pattern: Pattern, cell: &[u32; N], cells: u32, u: &[f32; N]) -> [f32; N] {
+    let mut v = [0.0f32; N];
+    match pattern {
+        Pattern::Random => v = *u,
+        Pattern::Grid => {
+            for k in 0..N {
+                v[k] = (cell[k] as f32 + 0.5) / cells as f32;
+            }
+        }
+        Pattern::Jittered => {
+            for k in 0..N {
+                v[k] = jitter_in_cell_lane(cell[k], cells, clamp_lane(u[k], 0.0, ONE_MINUS_EPSILON));
+            }
+        }
+    }
+    // `Vec2::clamp` to [0, 1): on these values (never NaN, never -0) the same as `clamp_lane`.
+    v.map(|v| clamp_lane(v, 0.0, ONE_MINUS_EPSILON))
+}
+
+/// `a / b` for `b ≥ 1`, through `f64` so that lanes can share it (there is no vector integer
+/// division): exact, because the quotient of two `u32`s is at least `1/b` from the next
+/// integer above it unless it is an integer, and `f64` rounds it by less than `2³²/b · 2⁻⁵³`.
+#[inline(always)]
+fn quotient(a: u32, b: u32) -> u32 {
+    (f64::from(a) / f64::from(b)) as u32
+}
+
+/// `f32::clamp` without its assertion (which keeps a loop from being vectorised): the same
+/// comparisons in the same order.
+#[inline(always)]
+fn clamp_lane(mut x: f32, lo: f32, hi: f32) -> f32 {
+    if x < lo {
+        x = lo;
+    }
+    if x > hi {
+        x = hi;
+    }
+    x
+}
+
+/// [`jitter_in_cell`] with [`clamp_lane`] (`lo ≤ prev_float(hi)` always holds).
+#[inline(always)]
+fn jitter_in_cell_lane(i: u32, cells: u32, u: f32) -> f32 {
+    let (lo, hi) = cell_bounds(i, cells);
+    clamp_lane(lo + u * (hi - lo), lo, prev_float(hi))
+}
+
 /// All `n` points of `pattern` for one key and dimension: point `i` uses
 /// `uniform2(key, dim, i)`.
 ///
@@ -148,6 +225,35 @@ pub fn sample_square(pattern: Pattern, n: u32, key: &SampleKey, dim: u32) -> Vec
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn quotients_through_f64_are_exact() {
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x as u32
+        };
+        let edges = [0, 1, 2, 3, 255, 256, 65_535, 65_536, 65_537, u32::MAX / 2, u32::MAX - 1, u32::MAX];
+        for &a in &edges {
+            for &b in edges.iter().filter(|&&b| b > 0) {
+                assert_eq!(quotient(a, b), a / b, "{a} / {b}");
+            }
+        }
+        for _ in 0..200_000 {
+            let (a, b) = (next(), next() >> (next() % 32));
+            if b > 0 {
+                assert_eq!(quotient(a, b), a / b, "{a} / {b}");
+                // Just below and at a multiple: where a rounding up would show.
+                let m = (a / b) * b;
+                assert_eq!(quotient(m, b), m / b);
+                if m > 0 {
+                    assert_eq!(quotient(m - 1, b), (m - 1) / b, "{} / {b}", m - 1);
+                }
+            }
+        }
+    }
     use std::f32::consts::PI;
 
     const SIZES: [u32; 11] = [1, 2, 3, 4, 6, 7, 9, 12, 16, 64, 100];

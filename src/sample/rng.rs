@@ -42,7 +42,7 @@ const SEED_OFFSET: u64 = 0x9E37_79B9_7F4A_7C15;
 const INV_2_24: f32 = 1.0 / (1u32 << 24) as f32;
 
 /// Stafford's Mix13 64-bit finalizer: a bijection with full avalanche.
-#[inline]
+#[inline(always)]
 fn mix(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
@@ -79,7 +79,7 @@ impl Dimension {
     }
 
     /// [`hash`] of point `index`.
-    #[inline]
+    #[inline(always)]
     pub fn hash(self, index: u32) -> u64 {
         mix(self.0 ^ u64::from(index))
     }
@@ -90,10 +90,19 @@ impl Dimension {
         let h = self.hash(index);
         Vec2::new(unit_f32(h >> 40), unit_f32(h >> 16))
     }
+
+    /// [`Self::uniform2`] of `N` points at once, as the arrays of their `x` and `y`: the same
+    /// bits, worked out lane by lane. Inline it into a [`crate::simd::SimdLevel::run`] closure
+    /// to get the level's vectors.
+    #[inline(always)]
+    pub fn uniform2_lanes<const N: usize>(self, index: &[u32; N]) -> ([f32; N], [f32; N]) {
+        let h = index.map(|i| self.hash(i));
+        (h.map(|h| unit_f32(h >> 40)), h.map(|h| unit_f32(h >> 16)))
+    }
 }
 
 /// Converts 24 random bits (the low 24 of `bits`) to a float in `[0, 1)`; exact, never 1.0.
-#[inline]
+#[inline(always)]
 fn unit_f32(bits: u64) -> f32 {
     (bits & 0x00FF_FFFF) as f32 * INV_2_24
 }
@@ -229,37 +238,71 @@ impl Permutation {
     /// The element at position `index` (taken modulo `n`).
     #[inline]
     pub fn at(self, index: u32) -> u32 {
-        let Self { l, w, p, offset } = self;
+        let l = self.l;
         // Callers mostly pass an index already below `l`: a predictable branch spares them a
         // division.
         let mut i = if index < l { index } else { index % l };
         // Every step is a bijection on the low bits under the mask `w`, so the loop visits a
         // cycle of that bijection and stops at the first element inside `0..l`.
         loop {
-            i ^= p;
-            i = i.wrapping_mul(0xe170_893d);
-            i ^= p >> 16;
-            i ^= (i & w) >> 4;
-            i ^= p >> 8;
-            i = i.wrapping_mul(0x0929_eb3f);
-            i ^= p >> 23;
-            i ^= (i & w) >> 1;
-            i = i.wrapping_mul(1 | p >> 27);
-            i = i.wrapping_mul(0x6935_fa69);
-            i ^= (i & w) >> 11;
-            i = i.wrapping_mul(0x74dc_b303);
-            i ^= (i & w) >> 2;
-            i = i.wrapping_mul(0x9e50_1cc3);
-            i ^= (i & w) >> 2;
-            i = i.wrapping_mul(0xc860_a3df);
-            i &= w;
-            i ^= i >> 5;
+            i = self.step(i);
             if i < l {
                 break;
             }
         }
         // `(i + p) mod l` without a 64-bit division: `i < l` and `offset < l`, so one
         // subtraction reduces the sum (in 64 bits: it may pass 2³²).
+        self.shifted(i)
+    }
+
+    /// [`Self::at`] of `N` indices, each below `n`, at once: the same elements, worked out
+    /// lane by lane so that the lanes' steps share instructions (each lane walks its cycle until
+    /// it lands in `0..n`, as [`Self::at`] does). Inline it into a
+    /// [`crate::simd::SimdLevel::run`] closure to get the level's vectors.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
+    pub fn at_lanes<const N: usize>(self, index: &[u32; N]) -> [u32; N] {
+        debug_assert!(index.iter().all(|&i| i < self.l));
+        let mut i = *index;
+        let mut walking = [true; N];
+        while walking.contains(&true) {
+            for k in 0..N {
+                let next = self.step(i[k]);
+                i[k] = if walking[k] { next } else { i[k] };
+                walking[k] &= i[k] >= self.l;
+            }
+        }
+        i.map(|i| self.shifted(i))
+    }
+
+    /// One step of the walk: a bijection on the bits under the mask `w`.
+    #[inline(always)]
+    fn step(self, mut i: u32) -> u32 {
+        let Self { w, p, .. } = self;
+        i ^= p;
+        i = i.wrapping_mul(0xe170_893d);
+        i ^= p >> 16;
+        i ^= (i & w) >> 4;
+        i ^= p >> 8;
+        i = i.wrapping_mul(0x0929_eb3f);
+        i ^= p >> 23;
+        i ^= (i & w) >> 1;
+        i = i.wrapping_mul(1 | p >> 27);
+        i = i.wrapping_mul(0x6935_fa69);
+        i ^= (i & w) >> 11;
+        i = i.wrapping_mul(0x74dc_b303);
+        i ^= (i & w) >> 2;
+        i = i.wrapping_mul(0x9e50_1cc3);
+        i ^= (i & w) >> 2;
+        i = i.wrapping_mul(0xc860_a3df);
+        i &= w;
+        i ^ (i >> 5)
+    }
+
+    /// `(i + offset) mod n` for `i < n`.
+    #[inline(always)]
+    fn shifted(self, i: u32) -> u32 {
+        let Self { l, offset, .. } = self;
         let sum = u64::from(i) + u64::from(offset);
         (if sum >= u64::from(l) { sum - u64::from(l) } else { sum }) as u32
     }

@@ -215,16 +215,56 @@ impl Light {
     /// ignore `st`.
     #[inline]
     pub fn sample(&self, p: Vec3, st: Vec2) -> (Vec3, f32, Vec3) {
-        match *self {
-            Light::Rect { corner, edge_u, edge_v, radiance, falloff, .. } => {
-                towards_point(p, corner + st.x * edge_u + st.y * edge_v, radiance, falloff)
-            }
-            Light::Disk { centre, axis_u, axis_v, radius, radiance, falloff, .. } => {
-                let d = concentric_disk(st) * radius;
-                towards_point(p, centre + d.x * axis_u + d.y * axis_v, radiance, falloff)
+        match (*self, self.point(st)) {
+            (Light::Rect { radiance, falloff, .. } | Light::Disk { radiance, falloff, .. }, Some(q)) => {
+                towards_point(p, q, radiance, falloff)
             }
             _ => self.towards(p),
         }
+    }
+
+    /// The point `st` of `[0, 1)²` on an area light; `None` for point and directional lights.
+    #[inline(always)]
+    fn point(&self, st: Vec2) -> Option<Vec3> {
+        match *self {
+            Light::Rect { corner, edge_u, edge_v, .. } => Some(corner + st.x * edge_u + st.y * edge_v),
+            Light::Disk { centre, axis_u, axis_v, radius, .. } => {
+                let d = concentric_disk(st) * radius;
+                Some(centre + d.x * axis_u + d.y * axis_v)
+            }
+            _ => None,
+        }
+    }
+
+    /// [`Self::sample`]'s directions and distances from `p` for the points `st` of an area
+    /// light, worked out lane by lane so that the lanes' square roots and divisions share
+    /// instructions: in every lane that is `ok`, the same bits as [`Self::sample`]. A lane is
+    /// not `ok` where its point is so near `p`, or so far, that [`Self::sample`] takes its safe
+    /// path ([`LightLanes::sample`] then takes that). Point and directional lights give no
+    /// lane `ok`. Inline it into a [`crate::simd::SimdLevel::run`] closure to get the level's
+    /// vectors.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
+    pub fn sample_lanes<const N: usize>(&self, p: Vec3, st: &[Vec2; N]) -> LightLanes<N> {
+        let mut out = LightLanes { dir: [[0.0; N]; 3], dist: [0.0; N], ok: [false; N] };
+        let mut to = [[0.0f32; N]; 3];
+        for (lane, &st) in st.iter().enumerate() {
+            let Some(q) = self.point(st) else { return out };
+            for axis in 0..3 {
+                to[axis][lane] = q[axis] - p[axis];
+            }
+        }
+        for lane in 0..N {
+            let [x, y, z] = [to[0][lane], to[1][lane], to[2][lane]];
+            // `Vec3::length` and `Vec3 / f32`, in the same order.
+            let dist = (x * x + y * y + z * z).sqrt();
+            out.dist[lane] = dist;
+            out.ok[lane] = dist.is_finite() && dist >= TINY_DISTANCE;
+            for axis in 0..3 {
+                out.dir[axis][lane] = to[axis][lane] / dist;
+            }
+        }
+        out
     }
 
     /// True for an area light that camera, reflection and refraction rays see.
@@ -283,6 +323,37 @@ pub fn spot_factor(cos: f32, cos_inner: f32, cos_outer: f32) -> f32 {
     }
     let x = (cos - cos_outer) / (cos_inner - cos_outer);
     x * x * (3.0 - 2.0 * x)
+}
+
+/// Directions and distances from a point to `N` points of an area light, lane by lane
+/// ([`Light::sample_lanes`]).
+#[derive(Debug, Clone, Copy)]
+pub struct LightLanes<const N: usize> {
+    /// Unit directions towards the light points, one array per axis.
+    pub dir: [[f32; N]; 3],
+    /// Distances to the light points.
+    pub dist: [f32; N],
+    /// Lanes whose direction and distance are [`Light::sample`]'s.
+    pub ok: [bool; N],
+}
+
+impl<const N: usize> LightLanes<N> {
+    /// [`Light::sample`]`(p, st)` for lane `lane`, whose point is `st`, of the lanes `light`
+    /// gave for `p`: the lane's direction and distance where it is `ok`, the whole sample taken
+    /// again where it is not.
+    #[inline]
+    pub fn sample(&self, lane: usize, light: &Light, p: Vec3, st: Vec2) -> (Vec3, f32, Vec3) {
+        match *light {
+            Light::Rect { radiance, falloff, .. } | Light::Disk { radiance, falloff, .. }
+                if self.ok[lane] =>
+            {
+                let dir = Vec3::new(self.dir[0][lane], self.dir[1][lane], self.dir[2][lane]);
+                let dist = self.dist[lane];
+                (dir, dist, falloff.apply(clamp_radiance(radiance), dist))
+            }
+            _ => light.sample(p, st),
+        }
+    }
 }
 
 /// Below this distance to a light, `to / |to|` loses precision: [`unit_and_length`] takes over.

@@ -6,7 +6,7 @@ use super::stats::RayCounts;
 use super::surface::ShadingPoint;
 use crate::math::{Vec2, Vec3};
 use crate::sample::dims::{FIRST_PATH_DIM, PERMUTATION_SEED};
-use crate::sample::pattern::{square_point_in, strata};
+use crate::sample::pattern::{square_point_in, square_points_in, strata};
 use crate::sample::rng::{Dimension, Permutation, SampleKey, SampleStream};
 use crate::sample::sobol::Progressive;
 use crate::sample::Pattern;
@@ -290,6 +290,28 @@ impl EffectSamples {
     pub fn pattern_size(&self) -> u32 {
         self.n
     }
+
+    /// The next `N` points (fewer where fewer are left) into `out`, and how many: the points
+    /// [`Iterator::next`] would give, the same bits. A fixed set's points are worked out lane by
+    /// lane where `N` of them are left below the pattern's size, so that their steps share
+    /// instructions; inline it into a [`crate::simd::SimdLevel::run`] closure to get the
+    /// level's vectors.
+    #[inline(always)]
+    pub fn fill<const N: usize>(&mut self, out: &mut [Vec2; N]) -> usize {
+        let g = self.next;
+        let whole = self.taken() as usize >= N && g.checked_add(N as u32).is_some_and(|end| end <= self.n);
+        match self.source {
+            Source::Fixed(order) if whole => {
+                let index: [u32; N] = std::array::from_fn(|k| g + k as u32);
+                let strata = order.at_lanes(&index);
+                let (ux, uy) = self.points.uniform2_lanes(&index);
+                *out = square_points_in(self.pattern, self.strata, &strata, &ux, &uy);
+                self.next = g + N as u32;
+                N
+            }
+            _ => out.iter_mut().zip(self.by_ref()).map(|(slot, point)| *slot = point).count(),
+        }
+    }
 }
 
 impl Iterator for EffectSamples {
@@ -319,6 +341,55 @@ impl Iterator for EffectSamples {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::simd::SimdLevel;
+
+    /// `fill` gives the points `next` gives, in the same order, whatever share of a fixed set
+    /// or of a noise-driven replicate the camera sample takes, and at every SIMD level.
+    #[test]
+    fn filled_lanes_are_the_points_next_gives() {
+        let settings = RenderSettings::default();
+        let key = SampleKey { seed: 5, frame: 2, pixel: 77, sample: 0 };
+        let mut cases = 0;
+        for (n, spp) in [(256, 16), (256, 1), (17, 1), (40, 3), (16, 16), (100, 7), (1, 1), (33, 2)] {
+            for slot in [0, spp / 2, spp - 1] {
+                for progressive in [None, Some(Replica::of(slot + 9))] {
+                    for pattern in [Pattern::Jittered, Pattern::Grid, Pattern::Random] {
+                        let camera = CameraSample { key, pixel: key, slot, spp, progressive };
+                        let mut rays = RayCounts::default();
+                        let mut ctx = PathContext::new(&settings, camera, &mut rays);
+                        let samples = ctx.effect_samples(n, pattern);
+                        let want: Vec<Vec2> = samples.clone().collect();
+                        for level in SimdLevel::ALL.into_iter().filter(|l| l.available()) {
+                            let mut samples = samples.clone();
+                            let mut got = Vec::new();
+                            loop {
+                                let mut lanes = [Vec2::NAN; 16];
+                                let count = level.run(
+                                    #[inline(always)]
+                                    || samples.fill(&mut lanes),
+                                );
+                                got.extend_from_slice(&lanes[..count]);
+                                if count < lanes.len() {
+                                    break;
+                                }
+                            }
+                            let bits = |v: &[Vec2]| {
+                                v.iter().map(|p| (p.x.to_bits(), p.y.to_bits())).collect::<Vec<_>>()
+                            };
+                            assert_eq!(
+                                bits(&got),
+                                bits(&want),
+                                "n {n}, spp {spp}, slot {slot}, {progressive:?}, {pattern:?}, {level:?}"
+                            );
+                            assert_eq!(samples.next(), None);
+                            cases += usize::from(want.len() >= 16 && progressive.is_none());
+                        }
+                    }
+                }
+            }
+        }
+        assert!(cases > 0, "no case took the lane-wise path");
+    }
 
     #[test]
     fn a_budget_grants_up_to_its_limit_less_the_rays_set_aside() {

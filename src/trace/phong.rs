@@ -8,7 +8,7 @@ use super::packet::{shadow_passes, LANES, MIN_LANES};
 use super::path::{EffectSamples, PathContext};
 use super::scene::TraceScene;
 use super::visibility::transmittance_at;
-use crate::math::{reflect, Ray, RayPacket, Vec3, SHADOW_EPSILON};
+use crate::math::{reflect, Ray, RayPacket, Vec2, Vec3, SHADOW_EPSILON};
 use crate::simd::SimdLevel;
 use crate::store::{PrimitiveStore, TraversalCost};
 
@@ -108,7 +108,9 @@ fn area_light<S: PrimitiveStore>(
 }
 
 /// [`area_light`] with the shadow rays traced in packets of [`LANES`] (they share an origin):
-/// the same samples, rays and sums in the same order, so the same bits.
+/// the same samples, rays and sums in the same order, so the same bits. The directions to the
+/// light points are worked out [`LANES`] at a time ([`Light::sample_lanes`]), and so are the
+/// packet's reciprocal directions.
 #[allow(clippy::too_many_arguments)]
 fn area_light_packets<S: PrimitiveStore>(
     scene: &TraceScene<S>,
@@ -116,48 +118,78 @@ fn area_light_packets<S: PrimitiveStore>(
     m: &Material,
     s: &Surface,
     view: Vec3,
-    samples: EffectSamples,
+    mut samples: EffectSamples,
     share: f32,
     level: SimdLevel,
     ctx: &mut PathContext<'_>,
 ) -> Vec3 {
     let mut colour = Vec3::ZERO;
-    let mut samples = samples.peekable();
-    while samples.peek().is_some() {
-        let mut packet = RayPacket::<LANES>::default();
-        let mut lit = [(Vec3::ZERO, Vec3::ZERO, 0.0f32); LANES];
-        let mut lanes = 0;
-        for st in samples.by_ref() {
-            let (to_light, dist, radiance) = light.sample(s.point, st);
+    let mut packet = RayPacket::<LANES>::default();
+    // Each lane's direction to the light, the radiance arriving and N·L.
+    let mut lit = [(Vec3::ZERO, Vec3::ZERO, 0.0f32); LANES];
+    let mut lanes = 0;
+    loop {
+        let mut st = [Vec2::ZERO; LANES];
+        let (count, towards) = level.run(
+            #[inline(always)]
+            || {
+                let count = samples.fill(&mut st);
+                (count, light.sample_lanes(s.point, &st))
+            },
+        );
+        for (lane, &st) in st.iter().enumerate().take(count) {
+            let (to_light, dist, radiance) = towards.sample(lane, light, s.point, st);
             let n_dot_l = s.normal.dot(to_light);
             if n_dot_l <= 0.0 || dist <= s.eps {
                 continue;
             }
-            packet.set(lanes, &Ray::new(s.above, to_light), 0.0, dist * (1.0 - SHADOW_EPSILON));
+            packet.put(lanes, &Ray::new(s.above, to_light), 0.0, dist * (1.0 - SHADOW_EPSILON));
             lit[lanes] = (to_light, radiance, n_dot_l);
             lanes += 1;
             if lanes == LANES {
-                break;
+                add_lit(scene, &mut packet, &lit[..lanes], (m, s, view, share), level, ctx, &mut colour);
+                (packet, lanes) = (RayPacket::default(), 0);
             }
         }
-        if lanes == 0 {
+        if count < LANES {
             break;
         }
-        ctx.rays.area_shadow += lanes as u64;
-        let mut cost = TraversalCost::default();
-        let pass = level.run(
-            #[inline(always)]
-            || shadow_passes(scene, &packet, &mut cost),
-        );
-        let each = cost.per_ray(lanes as u32);
-        for (lane, &(to_light, radiance, n_dot_l)) in lit.iter().enumerate().take(lanes) {
-            ctx.rays.traversal.record(each);
-            if pass[lane] != Vec3::ZERO {
-                colour += radiance * (pass[lane] * share) * phong(m, s.normal, view, to_light, n_dot_l);
-            }
-        }
+    }
+    if lanes > 0 {
+        add_lit(scene, &mut packet, &lit[..lanes], (m, s, view, share), level, ctx, &mut colour);
     }
     colour
+}
+
+/// Adds to `colour` the light a packet of area-light shadow rays (`packet`, whose lanes'
+/// directions, radiance and N·L are `lit`) brings to the surface `s` of material `m` seen from
+/// `view`, each lane `share` of the light: lane by lane, in lane order.
+#[inline]
+fn add_lit<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    packet: &mut RayPacket<LANES>,
+    lit: &[(Vec3, Vec3, f32)],
+    (m, s, view, share): (&Material, &Surface, Vec3, f32),
+    level: SimdLevel,
+    ctx: &mut PathContext<'_>,
+    colour: &mut Vec3,
+) {
+    ctx.rays.area_shadow += lit.len() as u64;
+    let mut cost = TraversalCost::default();
+    let pass = level.run(
+        #[inline(always)]
+        || {
+            packet.reciprocals();
+            shadow_passes(scene, packet, &mut cost)
+        },
+    );
+    let each = cost.per_ray(lit.len() as u32);
+    for (lane, &(to_light, radiance, n_dot_l)) in lit.iter().enumerate() {
+        ctx.rays.traversal.record(each);
+        if pass[lane] != Vec3::ZERO {
+            *colour += radiance * (pass[lane] * share) * phong(m, s.normal, view, to_light, n_dot_l);
+        }
+    }
 }
 
 /// Transmittance of a shadow ray (per colour channel), its traversal cost counted.
