@@ -1,6 +1,6 @@
 //! The camera: a pinhole, or a thin lens with an aperture and a focal plane (depth of field).
 
-use crate::math::{unit_and_length, Ray, Vec2, Vec3};
+use crate::math::{unit_and_length, Ray, RayPacket, Vec2, Vec3};
 
 /// When the shutter is open, as fractions of the frame interval from the frame's time: motion
 /// blur integrates the scene over `[open, close]`. Validated to `0 ≤ open ≤ close ≤ 1`.
@@ -93,6 +93,49 @@ impl Camera {
     #[inline]
     pub fn ray(&self, px: f32, py: f32, width: u32, height: u32) -> Ray {
         Ray::new(self.position, self.direction(px, py, width, height).normalize())
+    }
+
+    /// The pinhole rays through the image points `point` of the `active` lanes, as a packet
+    /// with range `(0, ∞)`: lane by lane the bits of [`Self::ray`] and of
+    /// [`RayPacket::set`]'s reciprocals, worked out together so that the lanes' divisions and
+    /// square roots share instructions (inactive lanes are left as
+    /// [`RayPacket::default`] has them). Inline it into a [`crate::simd::SimdLevel::run`]
+    /// closure to get the level's vectors.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
+    pub fn pinhole_lanes<const N: usize>(
+        &self,
+        point: &[Vec2; N],
+        active: &[bool; N],
+        width: u32,
+        height: u32,
+    ) -> RayPacket<N> {
+        // `direction`, then `normalize` (`v * (1 / |v|)`), in the same order.
+        let half_h = self.half_height;
+        let half_w = half_h * width as f32 / height as f32;
+        let (w, h) = (width as f32, height as f32);
+        let mut d = [[0.0f32; N]; 3];
+        for i in 0..N {
+            let sx = (2.0 * point[i].x / w - 1.0) * half_w;
+            let sy = (1.0 - 2.0 * point[i].y / h) * half_h;
+            for axis in 0..3 {
+                d[axis][i] = self.forward[axis] + sx * self.right[axis] + sy * self.up[axis];
+            }
+        }
+        let mut packet = RayPacket::<N>::default();
+        for i in 0..N {
+            let scale = 1.0 / (d[0][i] * d[0][i] + d[1][i] * d[1][i] + d[2][i] * d[2][i]).sqrt();
+            for axis in 0..3 {
+                let unit = d[axis][i] * scale;
+                let inv = 1.0 / unit;
+                packet.origin[axis][i] = if active[i] { self.position[axis] } else { 0.0 };
+                packet.dir[axis][i] = if active[i] { unit } else { 0.0 };
+                packet.inv_dir[axis][i] = if active[i] { inv } else { 0.0 };
+            }
+            packet.t_max[i] = if active[i] { f32::INFINITY } else { 0.0 };
+        }
+        packet.active = *active;
+        packet
     }
 
     /// The thin-lens ray through image coordinates `(px, py)` leaving the lens at `lens`, a

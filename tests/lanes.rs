@@ -1,9 +1,10 @@
 //! Lane-wise sampling against the scalar functions it replaces: the area-light packets work out
-//! their sample points, directions and reciprocal directions sixteen lanes at a time, and every
-//! lane must be the bits the scalar function gives, at every SIMD level (the lane loops are
+//! their sample points, directions and reciprocal directions sixteen lanes at a time, camera
+//! packets their pinhole rays, and every lane must be the bits the scalar function gives, at every SIMD level (the lane loops are
 //! compiled for each level's vectors), on random and on edge-case inputs.
 
 use glam::Vec2;
+use penumbra::camera::Camera;
 use penumbra::math::{Ray, RayPacket, Vec3};
 use penumbra::sample::pattern::{square_point_in, square_points_in, strata};
 use penumbra::sample::rng::{Dimension, Permutation, SampleKey};
@@ -188,5 +189,52 @@ proptest! {
         let p = Vec3::from_array(p) * scale;
         check_light(&rect(corner, Vec3::new(2.0, 0.1, 0.0) * scale, Vec3::new(0.0, 0.3, 2.0) * scale, falloff), p, &st);
         check_light(&disk(corner, 1.5 * scale, falloff), p, &st);
+    }
+}
+
+/// The bits of every array of a packet.
+fn packet_bits<const M: usize>(p: &RayPacket<M>) -> Vec<u32> {
+    let axes = p.origin.iter().chain(&p.dir).chain(&p.inv_dir).flatten();
+    axes.chain(&p.t_min)
+        .chain(&p.t_max)
+        .map(|v| v.to_bits())
+        .chain(p.active.iter().map(|&a| a as u32))
+        .collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
+
+    /// A packet of pinhole rays equals the packet of the same rays from [`Camera::ray`] put in
+    /// lane by lane with [`RayPacket::set`], bit for bit, at every level: any camera, image
+    /// size and points (pixel corners, the image's edges, points between).
+    #[test]
+    fn pinhole_lanes_equal_single_camera_rays(
+        eye in prop::array::uniform3(-1e3f32..1e3),
+        target in prop::array::uniform3(-1e3f32..1e3),
+        fov_deg in 1.0f32..170.0,
+        (width, height) in (1u32..4000, 1u32..4000),
+        fraction in prop::array::uniform16((0.0f32..=1.0, 0.0f32..=1.0)),
+        active in prop::array::uniform16(any::<bool>()),
+        corners in any::<bool>(),
+    ) {
+        let (eye, target) = (Vec3::from_array(eye), Vec3::from_array(target));
+        prop_assume!((target - eye).length() > 1e-2);
+        let up = if (target - eye).normalize().y.abs() > 0.99 { Vec3::X } else { Vec3::Y };
+        let camera = Camera::look_at(eye, target, up, fov_deg.to_radians());
+        // Image points: whole pixel corners (`corners`), or anywhere in the image.
+        let point = |(u, v): (f32, f32)| match corners {
+            true => Vec2::new((u * width as f32).floor(), (v * height as f32).floor()),
+            false => Vec2::new(u * width as f32, v * height as f32),
+        };
+        let points = fraction.map(point);
+        let mut want = RayPacket::<N>::default();
+        for i in (0..N).filter(|&i| active[i]) {
+            want.set(i, &camera.ray(points[i].x, points[i].y, width, height), 0.0, f32::INFINITY);
+        }
+        for level in levels() {
+            let got = level.run(#[inline(always)] || camera.pinhole_lanes(&points, &active, width, height));
+            prop_assert_eq!(packet_bits(&got), packet_bits(&want), "{:?}", level);
+        }
     }
 }

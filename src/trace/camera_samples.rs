@@ -92,23 +92,7 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
         let settings = self.settings;
         let pixel = y * settings.width + x;
         let patterns = self.pixel_key(pixel);
-        let offset = match self.spread {
-            // The n samples take the n positions an AA n render of this pixel takes (the same
-            // strata and points), in an order decorrelated from their lens points and times: a
-            // pinhole at AA n and a lens at AA 1 with n lens samples see the focal plane alike.
-            true => {
-                let positions = Dimension::new(&patterns, dims::PIXEL);
-                let k = permute(sample, self.n, positions.hash(dims::PERMUTATION_SEED));
-                pixel_offset(&settings.aa, self.n, self.lens_strata, k, positions.uniform2(k), true)
-            }
-            false => {
-                // Most scenes take one camera sample per AA position: no division then.
-                let per = self.n_lens * self.n_time;
-                let i = if per == 1 { sample } else { sample / per };
-                let u = uniform2(&patterns, dims::PIXEL, i);
-                pixel_offset(&settings.aa, self.n_aa, self.aa_strata, i, u, false)
-            }
-        };
+        let offset = self.offset(patterns, sample);
         let time = match self.scene.motion {
             Some(_) => {
                 rays.timed += 1;
@@ -129,6 +113,52 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
         let key = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample };
         let camera = CameraSample { key, pixel: patterns, slot: sample, spp: self.n, progressive: None };
         (ray, camera, time)
+    }
+
+    /// Where in its pixel (in pixel units from the top-left corner) camera sample `sample`
+    /// of the pixel whose patterns are keyed by `patterns` lands.
+    #[inline]
+    fn offset(&self, patterns: SampleKey, sample: u32) -> Vec2 {
+        let settings = self.settings;
+        match self.spread {
+            // The n samples take the n positions an AA n render of this pixel takes (the same
+            // strata and points), in an order decorrelated from their lens points and times: a
+            // pinhole at AA n and a lens at AA 1 with n lens samples see the focal plane alike.
+            true => {
+                let positions = Dimension::new(&patterns, dims::PIXEL);
+                let k = permute(sample, self.n, positions.hash(dims::PERMUTATION_SEED));
+                pixel_offset(&settings.aa, self.n, self.lens_strata, k, positions.uniform2(k), true)
+            }
+            false => {
+                // Most scenes take one camera sample per AA position: no division then.
+                let per = self.n_lens * self.n_time;
+                let i = if per == 1 { sample } else { sample / per };
+                let u = uniform2(&patterns, dims::PIXEL, i);
+                pixel_offset(&settings.aa, self.n_aa, self.aa_strata, i, u, false)
+            }
+        }
+    }
+
+    /// Camera sample `sample` of pixel `(x, y)` for a pinhole camera that does not move, as
+    /// [`Self::sample`] gives it but without its ray: the image point the ray goes through (for
+    /// [`crate::camera::Camera::pinhole_lanes`]) and the sample's key. Counted as a camera ray.
+    #[inline]
+    pub(super) fn image_point(
+        &self,
+        x: u32,
+        y: u32,
+        sample: u32,
+        rays: &mut RayCounts,
+    ) -> (Vec2, CameraSample) {
+        debug_assert!(!self.scene.camera.has_lens() && self.scene.motion.is_none());
+        let settings = self.settings;
+        let pixel = y * settings.width + x;
+        let patterns = self.pixel_key(pixel);
+        let offset = self.offset(patterns, sample);
+        rays.camera += 1;
+        let key = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample };
+        let camera = CameraSample { key, pixel: patterns, slot: sample, spp: self.n, progressive: None };
+        (Vec2::new(x as f32 + offset.x, y as f32 + offset.y), camera)
     }
 
     /// Camera sample `sample` of batch `batch` of the pixel, for noise-driven sampling. The

@@ -11,7 +11,7 @@ use super::scene::TraceScene;
 use super::settings::RenderSettings;
 use super::stats::RayCounts;
 use super::tiles::TileOut;
-use crate::math::{Ray, RayPacket, Vec3, SHADOW_EPSILON};
+use crate::math::{Ray, RayPacket, Vec2, Vec3, SHADOW_EPSILON};
 use crate::simd::SimdLevel;
 use crate::store::{PrimitiveStore, TraversalCost};
 
@@ -33,6 +33,9 @@ pub(super) fn packet_tile<S: PrimitiveStore>(
     let tw = x1 - x0;
     out.pixels.resize(((y1 - y0) * tw) as usize, (Vec3::ZERO, 0));
     let n = sampler.n;
+    // Packets are traced for pinhole cameras that do not move ([`camera_packets`]).
+    let camera = &sampler.scene.camera;
+    let (width, height) = (sampler.settings.width, sampler.settings.height);
     for by in (y0..y1).step_by(BLOCK[1] as usize) {
         for bx in (x0..x1).step_by(BLOCK[0] as usize) {
             let mut means = [SampleMean::default(); LANES];
@@ -41,15 +44,19 @@ pub(super) fn packet_tile<S: PrimitiveStore>(
                 (x < x1 && y < y1).then_some((x, y))
             };
             for sample in 0..n {
-                let mut packet = RayPacket::<LANES>::default();
+                let mut points = [Vec2::ZERO; LANES];
                 let mut cameras = [None; LANES];
                 for (lane, camera) in cameras.iter_mut().enumerate() {
                     if let Some((x, y)) = pixel(lane) {
-                        let (ray, key, _) = sampler.sample(x, y, sample, rays);
-                        packet.set(lane, &ray, 0.0, f32::INFINITY);
-                        *camera = Some(key);
+                        let (point, key) = sampler.image_point(x, y, sample, rays);
+                        (points[lane], *camera) = (point, Some(key));
                     }
                 }
+                let active = cameras.map(|c| c.is_some());
+                let packet = level.run(
+                    #[inline(always)]
+                    || camera.pinhole_lanes(&points, &active, width, height),
+                );
                 let colours = shade_packet(sampler, level, &packet, &cameras, rays);
                 for (mean, colour) in means.iter_mut().zip(colours) {
                     if let Some(colour) = colour {
