@@ -122,6 +122,40 @@ impl Aabb {
         }
         (t0 <= t1).then_some((t0, t1))
     }
+
+    /// [`Self::clip_ray`] of the `live` lanes of `packet`, each clipped to `[t_min, t_max]`
+    /// of its lane, lane by lane without a branch: per lane whether it meets the box, and
+    /// where it does, the same range as [`Self::clip_ray`] (elsewhere the ranges are
+    /// meaningless). Inline it into a [`crate::simd::SimdLevel::run`] closure to get the
+    /// level's vectors.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
+    pub fn clip_lanes<const N: usize>(
+        &self,
+        packet: &RayPacket<N>,
+        live: &[bool; N],
+        t_max: &[f32; N],
+    ) -> ([bool; N], [f32; N], [f32; N]) {
+        let (mut meets, mut t0, mut t1) = (*live, packet.t_min, *t_max);
+        for axis in 0..3 {
+            let (lo, hi) = (self.min[axis], self.max[axis]);
+            for i in 0..N {
+                let o = packet.origin[axis][i];
+                let inv = packet.inv_dir[axis][i];
+                // A lane that does not move along this axis: inside the slab or a miss.
+                let flat = packet.dir[axis][i] == 0.0;
+                meets[i] &= !(flat && (o < lo || o > hi));
+                let a = (lo - o) * inv;
+                let b = (hi - o) * inv;
+                t0[i] = if flat { t0[i] } else { t0[i].max(a.min(b)) };
+                t1[i] = if flat { t1[i] } else { t1[i].min(a.max(b)) };
+            }
+        }
+        for i in 0..N {
+            meets[i] &= t0[i] <= t1[i];
+        }
+        (meets, t0, t1)
+    }
 }
 
 /// Unit roundoff of f32: half the spacing of floats at 1.

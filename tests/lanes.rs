@@ -238,3 +238,46 @@ proptest! {
         }
     }
 }
+
+/// A direction component: ordinary, zero of either sign, or so small its reciprocal is infinite.
+fn component() -> impl Strategy<Value = f32> {
+    prop_oneof![4 => -1.0f32..1.0, 1 => Just(0.0f32), 1 => Just(-0.0f32), 1 => Just(1e-40f32), 1 => Just(-1e-40f32)]
+}
+
+/// An origin component: anywhere around the box, or on one of its walls.
+fn coordinate() -> impl Strategy<Value = f32> {
+    prop_oneof![3 => -4.0f32..4.0, 1 => Just(-1.0f32), 1 => Just(2.0f32)]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 1000, ..ProptestConfig::default() })]
+
+    /// Clipping a packet's lanes to a box equals clipping each lane's ray alone: whether it
+    /// meets the box and, where it does, the same range bits, at every level; including
+    /// axis-parallel lanes, origins on the walls and directions whose reciprocal is infinite.
+    #[test]
+    fn clipped_lanes_equal_clipped_rays(
+        origins in prop::array::uniform16(prop::array::uniform3(coordinate())),
+        dirs in prop::array::uniform16(prop::array::uniform3(component())),
+        ranges in prop::array::uniform16((prop_oneof![Just(0.0f32), 0.0f32..3.0], prop_oneof![Just(f32::INFINITY), 0.0f32..6.0])),
+        live in prop::array::uniform16(any::<bool>()),
+    ) {
+        let aabb = penumbra::math::Aabb::new(Vec3::splat(-1.0), Vec3::splat(2.0));
+        let mut packet = RayPacket::<N>::default();
+        let mut t_max = [0.0f32; N];
+        for i in 0..N {
+            let d = Vec3::from_array(dirs[i]);
+            let d = if d == Vec3::ZERO { Vec3::X } else { d };
+            packet.set(i, &Ray::new(Vec3::from_array(origins[i]), d), ranges[i].0, 0.0);
+            t_max[i] = ranges[i].1;
+        }
+        for level in levels() {
+            let (meets, t0, t1) = level.run(#[inline(always)] || aabb.clip_lanes(&packet, &live, &t_max));
+            for i in 0..N {
+                let want = live[i].then(|| aabb.clip_ray(&packet.ray(i), Vec3::new(packet.inv_dir[0][i], packet.inv_dir[1][i], packet.inv_dir[2][i]), packet.t_min[i], t_max[i])).flatten();
+                let got = meets[i].then_some((t0[i], t1[i]));
+                prop_assert_eq!(got.map(|(a, b)| (a.to_bits(), b.to_bits())), want.map(|(a, b)| (a.to_bits(), b.to_bits())), "{:?} lane {}", level, i);
+            }
+        }
+    }
+}

@@ -196,23 +196,9 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
     cells: &mut u32,
 ) -> Option<()> {
     // Each lane's range inside the grid, exactly as a single ray's walk clips it.
-    let mut inside = [false; N];
-    let mut t_in = [0.0f32; N];
-    let mut t_out = [0.0f32; N];
-    let mut first = None;
-    for i in 0..N {
-        if !live[i] {
-            continue;
-        }
-        let ray = packet.ray(i);
-        let inv = Vec3::new(packet.inv_dir[0][i], packet.inv_dir[1][i], packet.inv_dir[2][i]);
-        if let Some((a, b)) = grid.bounds.clip_ray(&ray, inv, packet.t_min[i], sink.bound()[i]) {
-            (inside[i], t_in[i], t_out[i]) = (true, a, b);
-            first.get_or_insert(i);
-        }
-    }
+    let (inside, t_in, t_out) = grid.bounds.clip_lanes(packet, live, sink.bound());
     // No lane meets the grid: nothing to walk.
-    let Some(first) = first else { return Some(()) };
+    let Some(first) = inside.iter().position(|&inside| inside) else { return Some(()) };
     // The dominant axis of the first lane; every lane must move along it the same way, with a
     // finite reciprocal.
     let d0 = [packet.dir[0][first], packet.dir[1][first], packet.dir[2][first]];
