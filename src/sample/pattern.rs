@@ -110,11 +110,15 @@ pub fn square_points_in<const N: usize>(
     uy: &[f32; N],
 ) -> [Vec2; N] {
     let n = nx * ny;
+    // Callers mostly pass strata already below `n`: then no lane needs reducing.
+    let i = match i.iter().all(|&i| i < n) {
+        true => *i,
+        false => i.map(|i| i - quotient(i, n) * n),
+    };
     let (mut ix, mut iy) = ([0u32; N], [0u32; N]);
     for k in 0..N {
-        let i = i[k] - quotient(i[k], n) * n;
-        iy[k] = quotient(i, nx);
-        ix[k] = i - iy[k] * nx;
+        iy[k] = quotient(i[k], nx);
+        ix[k] = i[k] - iy[k] * nx;
     }
     // Each axis in loops of its own, the pattern chosen outside them: loops the compiler
     // vectorises.
