@@ -90,6 +90,27 @@ fn max(a: f32, b: f32) -> f32 {
     }
 }
 
+/// The smallest of `lo` and the largest of `hi`, by halving reductions: the lanes pair up, so
+/// the compiler keeps them in vector registers (a running minimum is one long dependent chain).
+/// Exact (see [`min`]).
+#[inline(always)]
+pub(crate) fn extent<const N: usize>(mut lo: [f32; N], mut hi: [f32; N]) -> (f32, f32) {
+    let mut width = N;
+    while width > 1 {
+        let half = width / 2;
+        for i in 0..half {
+            lo[i] = min(lo[i], lo[i + half]);
+            hi[i] = max(hi[i], hi[i + half]);
+        }
+        if width % 2 == 1 {
+            lo[0] = min(lo[0], lo[width - 1]);
+            hi[0] = max(hi[0], hi[width - 1]);
+        }
+        width = half;
+    }
+    (lo[0], hi[0])
+}
+
 /// A packet's lanes in the frame of one walk: the dominant axis `k` and the cross axes `u`, `v`.
 struct Frame<'a, const N: usize> {
     grid: &'a UniformGrid,
@@ -235,16 +256,12 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
         slack: MARGIN_RELATIVE * reach,
     };
     // The slices the lanes cross, from their entry and exit points along the dominant axis.
-    let (mut near, mut far) = (f32::INFINITY, f32::NEG_INFINITY);
+    let (mut lo, mut hi) = ([f32::INFINITY; N], [f32::NEG_INFINITY; N]);
     for i in 0..N {
-        if inside[i] {
-            for t in [t_in[i], t_out[i]] {
-                let c = packet.origin[k][i] + t * packet.dir[k][i];
-                near = near.min(c);
-                far = far.max(c);
-            }
-        }
+        let [a, b] = [t_in[i], t_out[i]].map(|t| packet.origin[k][i] + t * packet.dir[k][i]);
+        (lo[i], hi[i]) = if inside[i] { (min(a, b), max(a, b)) } else { (f32::INFINITY, f32::NEG_INFINITY) };
     }
+    let (near, far) = extent(lo, hi);
     let margin_k = frame.margin(k, near, far);
     let (s_lo, s_hi) = (frame.cell_of(k, near - margin_k), frame.cell_of(k, far + margin_k));
     let (mut s, last, step) = if forward { (s_lo, s_hi, 1) } else { (s_hi, s_lo, -1) };

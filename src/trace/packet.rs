@@ -24,7 +24,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::scene::TraceScene;
-use crate::accel::packet::{coherent_walk, PacketSink};
+use crate::accel::packet::{coherent_walk, extent, PacketSink};
 use crate::math::{Aabb, RayPacket, Vec3};
 use crate::store::{PacketHits, PrimitiveStore, TraversalCost};
 
@@ -360,13 +360,10 @@ fn alone<const N: usize, S: PrimitiveStore>(
 fn origin_spread<const N: usize>(packet: &RayPacket<N>, live: &[bool; N]) -> f32 {
     let mut spread = 0.0f32;
     for axis in 0..3 {
-        let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
-        for i in 0..N {
-            if live[i] {
-                lo = lo.min(packet.origin[axis][i]);
-                hi = hi.max(packet.origin[axis][i]);
-            }
-        }
+        let o = &packet.origin[axis];
+        let lo: [f32; N] = std::array::from_fn(|i| if live[i] { o[i] } else { f32::INFINITY });
+        let hi: [f32; N] = std::array::from_fn(|i| if live[i] { o[i] } else { f32::NEG_INFINITY });
+        let (lo, hi) = extent(lo, hi);
         spread = spread.max(hi - lo);
     }
     spread
