@@ -53,11 +53,12 @@ fn prev_float(x: f32) -> f32 {
     f32::from_bits(x.to_bits() - 1)
 }
 
-/// Places `u ∈ [0,1)` inside cell `i` of `cells`, strictly below the cell's upper bound.
-#[inline]
+/// Places `u ∈ [0,1)` inside cell `i` of `cells`, strictly below the cell's upper bound
+/// (`lo ≤ prev_float(hi)` always holds, so [`clamp_lane`] is `f32::clamp` here).
+#[inline(always)]
 fn jitter_in_cell(i: u32, cells: u32, u: f32) -> f32 {
     let (lo, hi) = cell_bounds(i, cells);
-    (lo + u * (hi - lo)).clamp(lo, prev_float(hi))
+    clamp_lane(lo + u * (hi - lo), lo, prev_float(hi))
 }
 
 /// The `i`-th of `n` points of `pattern` in `[0,1)²`, with `u ∈ [0,1)²` its random input.
@@ -97,9 +98,9 @@ pub fn square_point_in(pattern: Pattern, (nx, ny): (u32, u32), i: u32, u: Vec2) 
 }
 
 /// [`square_point_in`] of `N` points at once: lane `k` is `square_point_in(pattern, strata,
-/// i[k], Vec2::new(ux[k], uy[k]))` for `ux[k]` and `uy[k]` in `[0, 1)`, the same bits, worked out lane by lane so that the lanes'
-/// divisions share instructions. Inline it into a [`crate::simd::SimdLevel::run`] closure to
-/// get the level's vectors.
+/// i[k], Vec2::new(ux[k], uy[k]))` for `ux[k]` and `uy[k]` in `[0, 1)`, the same bits, worked
+/// out lane by lane so that the lanes' divisions share instructions. Inline it into a
+/// [`crate::simd::SimdLevel::run`] closure to get the level's vectors.
 #[inline(always)]
 #[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
 pub fn square_points_in<const N: usize>(
@@ -141,7 +142,7 @@ fn axis_points<const N: usize>(pattern: Pattern, cell: &[u32; N], cells: u32, u:
         }
         Pattern::Jittered => {
             for k in 0..N {
-                v[k] = jitter_in_cell_lane(cell[k], cells, clamp_lane(u[k], 0.0, ONE_MINUS_EPSILON));
+                v[k] = jitter_in_cell(cell[k], cells, clamp_lane(u[k], 0.0, ONE_MINUS_EPSILON));
             }
         }
     }
@@ -168,13 +169,6 @@ fn clamp_lane(mut x: f32, lo: f32, hi: f32) -> f32 {
         x = hi;
     }
     x
-}
-
-/// [`jitter_in_cell`] with [`clamp_lane`] (`lo ≤ prev_float(hi)` always holds).
-#[inline(always)]
-fn jitter_in_cell_lane(i: u32, cells: u32, u: f32) -> f32 {
-    let (lo, hi) = cell_bounds(i, cells);
-    clamp_lane(lo + u * (hi - lo), lo, prev_float(hi))
 }
 
 /// All `n` points of `pattern` for one key and dimension: point `i` uses
@@ -229,6 +223,7 @@ pub fn sample_square(pattern: Pattern, n: u32, key: &SampleKey, dim: u32) -> Vec
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f32::consts::PI;
 
     #[test]
     fn quotients_through_f64_are_exact() {
@@ -258,7 +253,6 @@ mod tests {
             }
         }
     }
-    use std::f32::consts::PI;
 
     const SIZES: [u32; 11] = [1, 2, 3, 4, 6, 7, 9, 12, 16, 64, 100];
     const PATTERNS: [Pattern; 3] = [Pattern::Grid, Pattern::Random, Pattern::Jittered];

@@ -108,9 +108,9 @@ fn area_light<S: PrimitiveStore>(
 }
 
 /// [`area_light`] with the shadow rays traced in packets of [`LANES`] (they share an origin):
-/// the same samples, rays and sums in the same order, so the same bits. The directions to the
-/// light points are worked out [`LANES`] at a time ([`Light::sample_lanes`]), and so are the
-/// packet's reciprocal directions.
+/// the same samples, rays and sums in the same order, so the same bits. The sample points
+/// ([`EffectSamples::fill`]), the directions to them ([`Light::sample_lanes`]) and the
+/// packet's reciprocal directions are worked out [`LANES`] at a time.
 #[allow(clippy::too_many_arguments)]
 fn area_light_packets<S: PrimitiveStore>(
     scene: &TraceScene<S>,
