@@ -126,15 +126,13 @@ impl Camera {
         for i in 0..N {
             let scale = 1.0 / (d[0][i] * d[0][i] + d[1][i] * d[1][i] + d[2][i] * d[2][i]).sqrt();
             for axis in 0..3 {
-                let unit = d[axis][i] * scale;
-                let inv = 1.0 / unit;
                 packet.origin[axis][i] = if active[i] { self.position[axis] } else { 0.0 };
-                packet.dir[axis][i] = if active[i] { unit } else { 0.0 };
-                packet.inv_dir[axis][i] = if active[i] { inv } else { 0.0 };
+                packet.dir[axis][i] = if active[i] { d[axis][i] * scale } else { 0.0 };
             }
             packet.t_max[i] = if active[i] { f32::INFINITY } else { 0.0 };
         }
         packet.active = *active;
+        packet.reciprocals();
         packet
     }
 
