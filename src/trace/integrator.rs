@@ -3,6 +3,7 @@
 //! refraction. What a ray hits and what a shadow ray lets through are asked of
 //! [`super::visibility`]; the path's limits and samples are carried in a `PathContext`.
 
+use super::material::Material;
 use super::path::{CameraSample, PathContext};
 use super::phong::{direct_light, Surface};
 use super::scene::TraceScene;
@@ -69,43 +70,131 @@ pub(crate) fn radiance_at<S: PrimitiveStore>(
     ctx.rays.traversal.record(cost);
     if scene.effects.visible_lights {
         if let Some(seen) = visible_light(scene, ray, found.map_or(f32::INFINITY, |h| h.t)) {
-            // A light in front of the hit: what a packet prepared for the hit is not needed.
-            ctx.surface_hint = None;
-            ctx.shadow_hint = None;
             return seen;
         }
     }
     let Some(hit) = found else {
         return scene.background;
     };
-    let ShadingPoint { sp, entering, n, ns, above } = match ctx.surface_hint.take() {
-        Some(shading) => shading,
-        None => ShadingPoint::new(scene.surface(&hit, ray, ctx.time), ray.dir),
-    };
-    let (m, ns) = match scene.shade_at(scene.material(sp.material), &hit, sp.point, ns, ctx.time) {
-        // A bump may not tilt the normal away from the viewer.
-        (m, bumped) if bumped.dot(ray.dir) < 0.0 => (m, bumped),
-        (m, _) => (m, ns),
-    };
-    let surface = Surface { point: sp.point, normal: ns, above, eps: sp.error };
-    let mut colour = scene.ambient * m.kd + direct_light(scene, &m, &surface, -ray.dir, ctx);
-    if m.emission != Vec3::ZERO {
-        colour += m.emission;
+    let lit =
+        Lit::new(scene, &hit, ray, ShadingPoint::new(scene.surface(&hit, ray, ctx.time), ray.dir), ctx.time);
+    let direct = direct_light(scene, &lit.m, &lit.surface, -ray.dir, ctx);
+    bounce(scene, ray, &hit, &lit, direct, depth, weight, ctx)
+}
+
+/// A hit ready to be shaded: its shading point, its material with textures applied, and the
+/// surface lights see (the shading normal bumped where the material has a bump map and the
+/// bump does not tilt it away from the viewer).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Lit {
+    /// The hit seen from the side its ray arrived on.
+    pub shading: ShadingPoint,
+    /// The material at the hit.
+    pub m: Material,
+    /// What direct light is computed on.
+    pub surface: Surface,
+}
+
+impl Lit {
+    /// The hit `hit` of `ray`, seen as `shading`, at time `time`.
+    #[inline]
+    pub fn new<S: PrimitiveStore>(
+        scene: &TraceScene<S>,
+        hit: &Hit,
+        ray: &Ray,
+        shading: ShadingPoint,
+        time: f32,
+    ) -> Self {
+        let ShadingPoint { sp, ns, above, .. } = shading;
+        let (m, ns) = match scene.shade_at(scene.material(sp.material), hit, sp.point, ns, time) {
+            // A bump may not tilt the normal away from the viewer.
+            (m, bumped) if bumped.dot(ray.dir) < 0.0 => (m, bumped),
+            (m, _) => (m, ns),
+        };
+        Self { shading, m, surface: Surface { point: sp.point, normal: ns, above, eps: sp.error } }
     }
 
-    // Beer–Lambert: light reaching a surface from inside its material lost some on the way.
-    let absorbed = |colour: Vec3| match entering || m.absorption == Vec3::ZERO {
-        true => colour,
-        false => colour * (-m.absorption * (hit.t * ray.dir.length())).exp(),
-    };
-    if depth >= ctx.max_depth {
-        return absorbed(colour);
+    /// The shares of reflected and transmitted light for `ray`.
+    #[inline]
+    fn split(&self, ray: &Ray) -> (f32, Vec3) {
+        let m = &self.m;
+        if m.fresnel {
+            m.fresnel_split(
+                (-ray.dir.dot(self.surface.normal) / ray.dir.length()).clamp(0.0, 1.0),
+                self.shading.entering,
+            )
+        } else {
+            (m.kr, m.kt)
+        }
     }
-    let (kr, kt) = if m.fresnel {
-        m.fresnel_split((-ray.dir.dot(ns) / ray.dir.length()).clamp(0.0, 1.0), entering)
-    } else {
-        (m.kr, m.kt)
-    };
+
+    /// Whether [`bounce`] traces a reflected or refracted ray from this hit of `ray` at `depth`
+    /// on a path of weight `weight`: where it does not, the hit's colour is [`Lit::local`].
+    #[inline]
+    pub fn bounces(&self, ray: &Ray, depth: u32, weight: f32, max_depth: u32, min_contribution: f32) -> bool {
+        if depth >= max_depth {
+            return false;
+        }
+        let (kr, kt) = self.split(ray);
+        let kt_max = kt.max_element();
+        (kr > 0.0 && weight * kr >= min_contribution) || (kt_max > 0.0 && weight * kt_max >= min_contribution)
+    }
+
+    /// The colour of this hit of `ray` from its own light alone: ambient, `direct` and emission,
+    /// less what its material absorbed on the way in (Beer–Lambert: light reaching a surface
+    /// from inside its material lost some on the way).
+    #[inline]
+    pub fn local<S: PrimitiveStore>(
+        &self,
+        scene: &TraceScene<S>,
+        ray: &Ray,
+        hit: &Hit,
+        direct: Vec3,
+    ) -> Vec3 {
+        self.absorbed(ray, hit, self.own(scene, direct))
+    }
+
+    /// Ambient, `direct` and emission.
+    #[inline]
+    fn own<S: PrimitiveStore>(&self, scene: &TraceScene<S>, direct: Vec3) -> Vec3 {
+        let mut colour = scene.ambient * self.m.kd + direct;
+        if self.m.emission != Vec3::ZERO {
+            colour += self.m.emission;
+        }
+        colour
+    }
+
+    /// `colour` less what the material absorbed on the way in, where the ray travelled inside it.
+    #[inline]
+    fn absorbed(&self, ray: &Ray, hit: &Hit, colour: Vec3) -> Vec3 {
+        match self.shading.entering || self.m.absorption == Vec3::ZERO {
+            true => colour,
+            false => colour * (-self.m.absorption * (hit.t * ray.dir.length())).exp(),
+        }
+    }
+}
+
+/// The radiance leaving hit `hit` of `ray` towards the ray's origin: [`Lit::local`] (with direct
+/// light `direct`) plus the mirror or glossy reflection and the refraction traced from it.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn bounce<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    ray: &Ray,
+    hit: &Hit,
+    lit: &Lit,
+    direct: Vec3,
+    depth: u32,
+    weight: f32,
+    ctx: &mut PathContext<'_>,
+) -> Vec3 {
+    let (m, surface) = (&lit.m, &lit.surface);
+    let ShadingPoint { sp, entering, n, .. } = lit.shading;
+    let ns = surface.normal;
+    let mut colour = lit.own(scene, direct);
+    if depth >= ctx.max_depth {
+        return lit.absorbed(ray, hit, colour);
+    }
+    let (kr, kt) = lit.split(ray);
     // The refraction's rays are set aside while the reflection's tree is traced.
     let kt_max = kt.max_element();
     let refracts = kt_max > 0.0 && weight * kt_max >= ctx.min_contribution;
@@ -166,12 +255,12 @@ pub(crate) fn radiance_at<S: PrimitiveStore>(
             colour += kt * radiance(scene, &Ray::new(origin, dir), depth + 1, weight * kt_max, ctx);
         }
     }
-    absorbed(colour)
+    lit.absorbed(ray, hit, colour)
 }
 
 /// The nearest visible light along `ray` in `(0, t_max)` and the radiance seen there.
 #[inline]
-fn visible_light<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max: f32) -> Option<Vec3> {
+pub(crate) fn visible_light<S: PrimitiveStore>(scene: &TraceScene<S>, ray: &Ray, t_max: f32) -> Option<Vec3> {
     let mut nearest = (t_max, None);
     for light in scene.lights.iter().filter(|l| l.is_visible()) {
         if let Some((t, radiance)) = light.hit(ray, nearest.0) {
@@ -236,4 +325,63 @@ fn scatter<S: PrimitiveStore>(
         return Vec3::ZERO;
     }
     sum / traced as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::prelude::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(256))]
+
+        /// Where `Lit::bounces` says a hit sends no further ray, `bounce` traces none and
+        /// returns `Lit::local` bit for bit (the packet path shades such lanes without a path
+        /// context); where it says one is sent, `bounce` traces one.
+        #[test]
+        fn a_hit_that_does_not_bounce_is_its_local_colour(
+            kr in prop_oneof![Just(0.0f32), 0.0f32..1.0],
+            kt in prop_oneof![Just(0.0f32), 0.0f32..1.0],
+            fresnel: bool,
+            absorbing: bool,
+            glossiness in prop_oneof![Just(0.0f32), 0.0f32..0.5],
+            max_depth in 0u32..3,
+            depth in 0u32..3,
+            weight in 0.01f32..1.0,
+            min_contribution in prop_oneof![Just(0.0f32), 0.0f32..0.5],
+            pixel in (0u32..64, 0u32..48),
+        ) {
+            let mut world: SceneWorld = spawn_world(&default_scene());
+            let scene = world.update();
+            let settings = RenderSettings { max_depth, min_contribution, ..world.render_settings() };
+            let camera = &scene.camera;
+            let target = Vec3::new(pixel.0 as f32 / 32.0 - 1.0, 0.75 - pixel.1 as f32 / 32.0, 0.0);
+            let ray = Ray::new(camera.position, (camera.forward + camera.right * target.x + camera.up * target.y).normalize());
+            let mut cost = TraversalCost::default();
+            let Some(hit) = closest_hit_at(&scene, &ray, 0.0, f32::INFINITY, 0.0, &mut cost) else {
+                return Ok(());
+            };
+            let mut lit = Lit::new(&scene, &hit, &ray, ShadingPoint::new(scene.surface(&hit, &ray, 0.0), ray.dir), 0.0);
+            lit.m.kr = kr;
+            lit.m.kt = Vec3::splat(kt);
+            lit.m.fresnel = fresnel;
+            lit.m.glossiness = glossiness;
+            lit.m.absorption = if absorbing { Vec3::new(0.5, 1.0, 2.0) } else { Vec3::ZERO };
+            let direct = Vec3::new(0.25, 0.5, 0.125);
+            let mut rays = RayCounts::default();
+            let key = SampleKey { seed: settings.seed, frame: settings.frame, ..SampleKey::default() };
+            let mut ctx = PathContext::new(&settings, CameraSample::single(key), &mut rays);
+            let colour = bounce(&scene, &ray, &hit, &lit, direct, depth, weight, &mut ctx);
+            let spent = ctx.budget.spent();
+            ctx.finish();
+            let secondary = rays.reflection + rays.refraction + rays.glossy + rays.blurry;
+            if lit.bounces(&ray, depth, weight, max_depth, min_contribution) {
+                prop_assert!(secondary > 0 && spent > 0, "a bounce traced no ray");
+            } else {
+                prop_assert_eq!(secondary, 0);
+                prop_assert_eq!(colour.to_array().map(f32::to_bits), lit.local(&scene, &ray, &hit, direct).to_array().map(f32::to_bits));
+            }
+        }
+    }
 }

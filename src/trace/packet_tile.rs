@@ -4,9 +4,10 @@
 
 use super::camera_samples::CameraSampler;
 use super::finite::SampleMean;
-use super::integrator::{radiance_at, ShadingPoint};
+use super::integrator::{bounce, visible_light, Lit, ShadingPoint};
 use super::packet::{closest_hits, shadow_passes, LANES, MIN_LANES};
 use super::path::{CameraSample, PathContext, ShadowHint, HINTED_LIGHTS};
+use super::phong::{direct_light, point_lights};
 use super::scene::TraceScene;
 use super::settings::RenderSettings;
 use super::stats::RayCounts;
@@ -91,7 +92,11 @@ pub(super) fn camera_packets<S: PrimitiveStore>(
 /// camera sample): their first hits found together ([`closest_hits`], compiled for `level`),
 /// the shadow rays of those hits towards point and directional lights traced together, and
 /// each lane shaded on its own from its hit. Each lane's radiance, the same bits as the lane's
-/// ray traced alone.
+/// ray traced alone ([`radiance_at`](super::integrator::radiance_at)).
+///
+/// In a scene lit only by point, spot and directional lights, a lane whose hit
+/// sends no reflected or refracted ray is shaded without a path context: its direct light from
+/// the packet's shadow rays, plus ambient and emission ([`Lit::local`]).
 #[inline]
 pub(super) fn shade_packet<S: PrimitiveStore>(
     sampler: &CameraSampler<'_, S>,
@@ -114,13 +119,41 @@ pub(super) fn shade_packet<S: PrimitiveStore>(
         hits.hit[lane].map(|hit| ShadingPoint::new(scene.store.surface(&hit, &ray), ray.dir))
     });
     let hints = point_light_shadows(scene, &surfaces, level, rays);
+    // No light is sampled: direct light needs no path context ([`point_lights`]).
+    let point_lit = scene.lights.iter().all(|l| !l.is_area());
     std::array::from_fn(|lane| {
         let camera = cameras[lane]?;
-        let mut ctx = PathContext::new(settings, camera, rays);
-        ctx.shadow_hint = hints[lane];
-        ctx.surface_hint = surfaces[lane];
         let ray = packet.ray(lane);
-        let colour = radiance_at(scene, &ray, hits.hit[lane], lane_cost, 0, 1.0, &mut ctx);
+        let hit = hits.hit[lane];
+        rays.traversal.record(lane_cost);
+        if scene.effects.visible_lights {
+            if let Some(seen) = visible_light(scene, &ray, hit.map_or(f32::INFINITY, |h| h.t)) {
+                rays.budget.record(0, 0);
+                return Some(seen);
+            }
+        }
+        let (Some(hit), Some(shading)) = (hit, surfaces[lane]) else {
+            rays.budget.record(0, 0);
+            return Some(scene.background);
+        };
+        let lit = Lit::new(scene, &hit, &ray, shading, 0.0);
+        let view = -ray.dir;
+        let direct = point_lit.then(|| point_lights(scene, &lit.m, &lit.surface, view, hints[lane], rays));
+        if let Some(direct) =
+            direct.filter(|_| !lit.bounces(&ray, 0, 1.0, settings.max_depth, settings.min_contribution))
+        {
+            rays.budget.record(0, 0);
+            return Some(lit.local(scene, &ray, &hit, direct));
+        }
+        let mut ctx = PathContext::new(settings, camera, rays);
+        let direct = match direct {
+            Some(direct) => direct,
+            None => {
+                ctx.shadow_hint = hints[lane];
+                direct_light(scene, &lit.m, &lit.surface, view, &mut ctx)
+            }
+        };
+        let colour = bounce(scene, &ray, &hit, &lit, direct, 0, 1.0, &mut ctx);
         ctx.finish();
         Some(colour)
     })

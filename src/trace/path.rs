@@ -3,7 +3,6 @@
 
 use super::settings::{RenderSettings, Sampling};
 use super::stats::RayCounts;
-use super::surface::ShadingPoint;
 use crate::math::{Vec2, Vec3};
 use crate::sample::dims::{FIRST_PATH_DIM, PERMUTATION_SEED};
 use crate::sample::pattern::{square_point_in, square_points_in, strata};
@@ -98,10 +97,6 @@ pub struct PathContext<'a> {
     /// the next shading point, already traced in a packet with its neighbours' (camera hits and
     /// point or directional lights); taken by the first [`super::phong::direct_light`].
     pub shadow_hint: Option<ShadowHint>,
-    /// The next shading point, already found by a packet tracer that needed it (for the
-    /// shadow rays of [`PathContext::shadow_hint`]); taken by the first [`radiance_at`], which
-    /// would compute the same.
-    pub surface_hint: Option<ShadingPoint>,
     /// Time of this camera sample in the shutter interval (0 at open, 1 at close): every ray
     /// of the path sees moving objects where they are then. 0 where nothing moves.
     pub time: f32,
@@ -191,7 +186,6 @@ impl<'a> PathContext<'a> {
             rays,
             packets: settings.simd.packets().then(|| settings.simd.resolve()),
             shadow_hint: None,
-            surface_hint: None,
             time: 0.0,
         }
     }

@@ -5,8 +5,9 @@
 use super::light::Light;
 use super::material::Material;
 use super::packet::{shadow_passes, LANES, MIN_LANES};
-use super::path::{EffectSamples, PathContext};
+use super::path::{EffectSamples, PathContext, ShadowHint};
 use super::scene::TraceScene;
+use super::stats::RayCounts;
 use super::visibility::transmittance_at;
 use crate::math::{reflect, Ray, RayPacket, Vec2, Vec3, SHADOW_EPSILON};
 use crate::simd::SimdLevel;
@@ -56,24 +57,65 @@ pub fn direct_light<S: PrimitiveStore>(
     for (j, light) in scene.lights.iter().enumerate() {
         if light.is_area() {
             colour += area_light(scene, light, m, s, view, ctx);
-            continue;
-        }
-        let (to_light, dist, radiance) = light.towards(s.point);
-        let n_dot_l = s.normal.dot(to_light);
-        if n_dot_l <= 0.0 {
-            continue;
-        }
-        ctx.rays.shadow += 1;
-        // Traced already in a packet (its cost recorded there), or now.
-        let pass = match hint.and_then(|h| h.get(j).copied().flatten()) {
-            Some(pass) => pass,
-            None => shadow(scene, &Ray::new(s.above, to_light), dist * (1.0 - SHADOW_EPSILON), ctx),
-        };
-        if pass != Vec3::ZERO {
-            colour += radiance * pass * phong(m, s.normal, view, to_light, n_dot_l);
+        } else if let Some(lit) = point_light(scene, light, (m, s, view), known(hint, j), ctx.time, ctx.rays)
+        {
+            colour += lit;
         }
     }
     colour
+}
+
+/// [`direct_light`] in a scene whose lights are all point, spot or directional lights (none
+/// sampled), at time 0: needs no path context. `hint` holds the shadow transmittances already
+/// traced in a packet; the other shadow rays are traced here.
+pub(crate) fn point_lights<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    m: &Material,
+    s: &Surface,
+    view: Vec3,
+    hint: Option<ShadowHint>,
+    rays: &mut RayCounts,
+) -> Vec3 {
+    let mut colour = Vec3::ZERO;
+    for (j, light) in scene.lights.iter().enumerate() {
+        debug_assert!(!light.is_area(), "area lights are sampled through a path context");
+        if let Some(lit) = point_light(scene, light, (m, s, view), known(hint, j), 0.0, rays) {
+            colour += lit;
+        }
+    }
+    colour
+}
+
+/// Light `j`'s shadow transmittance in `hint`, where it was traced in a packet.
+#[inline]
+fn known(hint: Option<ShadowHint>, j: usize) -> Option<Vec3> {
+    hint.and_then(|h| h.get(j).copied().flatten())
+}
+
+/// What point, spot or directional light `light` adds to the surface `s` of material `m` seen
+/// from `view` (`None` for nothing: the surface faces away, or the light is blocked): its shadow
+/// ray's transmittance is `known`, or traced at time `time`.
+#[inline]
+fn point_light<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    light: &Light,
+    (m, s, view): (&Material, &Surface, Vec3),
+    known: Option<Vec3>,
+    time: f32,
+    rays: &mut RayCounts,
+) -> Option<Vec3> {
+    let (to_light, dist, radiance) = light.towards(s.point);
+    let n_dot_l = s.normal.dot(to_light);
+    if n_dot_l <= 0.0 {
+        return None;
+    }
+    rays.shadow += 1;
+    // Traced already in a packet (its cost recorded there), or now.
+    let pass = match known {
+        Some(pass) => pass,
+        None => shadow(scene, &Ray::new(s.above, to_light), dist * (1.0 - SHADOW_EPSILON), time, rays),
+    };
+    (pass != Vec3::ZERO).then(|| radiance * pass * phong(m, s.normal, view, to_light, n_dot_l))
 }
 
 /// The samples of one area light, each a point light of `radiance / samples`.
@@ -99,7 +141,8 @@ fn area_light<S: PrimitiveStore>(
             continue;
         }
         ctx.rays.area_shadow += 1;
-        let pass = shadow(scene, &Ray::new(s.above, to_light), dist * (1.0 - SHADOW_EPSILON), ctx);
+        let pass =
+            shadow(scene, &Ray::new(s.above, to_light), dist * (1.0 - SHADOW_EPSILON), ctx.time, ctx.rays);
         if pass != Vec3::ZERO {
             colour += radiance * (pass * share) * phong(m, s.normal, view, to_light, n_dot_l);
         }
@@ -198,11 +241,12 @@ fn shadow<S: PrimitiveStore>(
     scene: &TraceScene<S>,
     ray: &Ray,
     t_max: f32,
-    ctx: &mut PathContext<'_>,
+    time: f32,
+    rays: &mut RayCounts,
 ) -> Vec3 {
     let mut cost = TraversalCost::default();
-    let pass = transmittance_at(scene, ray, t_max, ctx.time, &mut cost);
-    ctx.rays.traversal.record(cost);
+    let pass = transmittance_at(scene, ray, t_max, time, &mut cost);
+    rays.traversal.record(cost);
     pass
 }
 
