@@ -203,6 +203,9 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
     struct Shares<'a, const N: usize, S: PrimitiveStore> {
         scene: &'a TraceScene<S>,
         packet: &'a RayPacket<N>,
+        /// The packet, each lane's `t_min` moved past the crossings found so far of the object
+        /// being visited.
+        from: RayPacket<N>,
         bound: [f32; N],
         met: Vec<Met<N>>,
         cost: TraversalCost,
@@ -211,6 +214,10 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
         #[inline(always)]
         fn bound(&self) -> &[f32; N] {
             &self.bound
+        }
+        #[inline(always)]
+        fn candidates(&self, ids: &[u32], footprint: &Aabb) -> u64 {
+            screen(&self.scene.store, ids, footprint)
         }
         #[inline(always)]
         fn visit(&mut self, id: u32, live: &[bool; N]) {
@@ -230,10 +237,11 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
                 met.done[i] |= todo[i];
             }
             let store = &self.scene.store;
-            let mut from = *self.packet;
+            let from = &mut self.from;
+            from.t_min = self.packet.t_min;
             while todo.iter().any(|&t| t) {
-                let mut hits = PacketHits::new(&from);
-                store.intersect_bounded_packet(id, &from, &todo, &mut hits, &mut self.cost);
+                let mut hits = PacketHits::new(from);
+                store.intersect_bounded_packet(id, from, &todo, &mut hits, &mut self.cost);
                 for i in 0..N {
                     if !todo[i] {
                         continue;
@@ -260,7 +268,8 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
         return pass;
     }
     let bound = std::array::from_fn(|i| if open[i] { packet.t_max[i] } else { f32::NEG_INFINITY });
-    let mut sink = Shares { scene, packet, bound, met: Vec::new(), cost: TraversalCost::default() };
+    let mut sink =
+        Shares { scene, packet, from: *packet, bound, met: Vec::new(), cost: TraversalCost::default() };
     let mut cells = 0;
     let walked = coherent_walk(&scene.grid, packet, &open, &mut sink, &mut cells);
     let Shares { bound, mut met, cost: tested, .. } = sink;
