@@ -171,7 +171,9 @@ fn area_light_packets<S: PrimitiveStore>(
     // Each lane's direction to the light, the radiance arriving and N·L.
     let mut lit = [(Vec3::ZERO, Vec3::ZERO, 0.0f32); LANES];
     let mut lanes = 0;
-    loop {
+    // Whether `packet` was traced and must be cleared before it takes new lanes.
+    let mut traced = false;
+    while samples.taken() > 0 {
         let mut st = [Vec2::ZERO; LANES];
         let (count, towards) = level.run(
             #[inline(always)]
@@ -186,16 +188,16 @@ fn area_light_packets<S: PrimitiveStore>(
             if n_dot_l <= 0.0 || dist <= s.eps {
                 continue;
             }
+            if traced {
+                (packet, traced) = (RayPacket::default(), false);
+            }
             packet.put(lanes, &Ray::new(s.above, to_light), 0.0, dist * (1.0 - SHADOW_EPSILON));
             lit[lanes] = (to_light, radiance, n_dot_l);
             lanes += 1;
             if lanes == LANES {
                 add_lit(scene, &mut packet, &lit[..lanes], (m, s, view, share), level, ctx, &mut colour);
-                (packet, lanes) = (RayPacket::default(), 0);
+                (traced, lanes) = (true, 0);
             }
-        }
-        if count < LANES {
-            break;
         }
     }
     if lanes > 0 {
