@@ -20,7 +20,7 @@ use penumbra::geom::{MeshId, Shape};
 use penumbra::math::{Affine3A, Quat, Ray, RayPacket, Vec3};
 use penumbra::simd::SimdLevel;
 use penumbra::store::{AosStore, Hit, MaterialId, MeshAsset, PlacedObject, PrimitiveStore, TraversalCost};
-use penumbra::trace::packet::{closest_hits, occluded, shadow_passes, LANES};
+use penumbra::trace::packet::{closest_hits, occluded, shadow_passes, Origins, LANES};
 use penumbra::trace::{closest_hit, Material, TraceScene};
 use proptest::prelude::*;
 use rand::rngs::StdRng;
@@ -298,17 +298,21 @@ fn check_transmittances<S: PrimitiveStore>() {
                     }
                 })
                 .collect();
+            let origins: &[Origins] =
+                if round % 2 == 0 { &[Origins::Shared, Origins::Apart] } else { &[Origins::Apart] };
             for level in [SimdLevel::Scalar, SimdLevel::Baseline, SimdLevel::Auto] {
-                let got = level.run(
-                    #[inline(always)]
-                    || shadow_passes(&scene, &p, &mut TraversalCost::default()),
-                );
-                for i in (0..LANES).filter(|&i| p.active[i]) {
-                    assert_eq!(
-                        got[i].to_array().map(f32::to_bits),
-                        want[i].to_array().map(f32::to_bits),
-                        "seed {seed}, round {round}, lane {i} ({level})"
+                for &from in origins {
+                    let got = level.run(
+                        #[inline(always)]
+                        || shadow_passes(&scene, &p, from, &mut TraversalCost::default()),
                     );
+                    for i in (0..LANES).filter(|&i| p.active[i]) {
+                        assert_eq!(
+                            got[i].to_array().map(f32::to_bits),
+                            want[i].to_array().map(f32::to_bits),
+                            "seed {seed}, round {round}, lane {i} ({level}, {from:?})"
+                        );
+                    }
                 }
             }
             for i in (0..LANES).filter(|&i| p.active[i]) {
@@ -451,13 +455,23 @@ fn check_shadows<S: PrimitiveStore>(scene: &TraceScene<S>, seed: u64) -> (usize,
                 p.active[i] && penumbra::trace::transmittance(scene, &p.ray(i), p.t_max[i]) == Vec3::ZERO
             })
             .collect();
-        for level in [SimdLevel::Baseline, SimdLevel::Auto] {
+        // A packet whose lanes share their origin may say so (and is then never scattered).
+        let origins: &[Origins] =
+            if round % 2 == 0 { &[Origins::Shared, Origins::Apart] } else { &[Origins::Apart] };
+        for (level, &from) in [SimdLevel::Baseline, SimdLevel::Auto]
+            .into_iter()
+            .flat_map(|l| origins.iter().map(move |o| (l, o)))
+        {
             let got = level.run(
                 #[inline(always)]
-                || occluded(scene, &p, &mut TraversalCost::default()),
+                || occluded(scene, &p, from, &mut TraversalCost::default()),
             );
             for i in 0..LANES {
-                assert_eq!(got[i] && p.active[i], want[i], "seed {seed}, round {round}, lane {i} ({level})");
+                assert_eq!(
+                    got[i] && p.active[i],
+                    want[i],
+                    "seed {seed}, round {round}, lane {i} ({level}, {from:?})"
+                );
             }
         }
         lanes += p.active.iter().filter(|&&a| a).count();
@@ -804,7 +818,7 @@ fn packets_through_vertices_and_edge_wall_crossings_equal_single_rays() {
                 );
                 let blocked = level.run(
                     #[inline(always)]
-                    || occluded(&scene, &p, &mut TraversalCost::default()),
+                    || occluded(&scene, &p, Origins::Apart, &mut TraversalCost::default()),
                 );
                 for i in 0..LANES {
                     let want = closest_hit(&scene, &p.ray(i), p.t_min[i], p.t_max[i]);

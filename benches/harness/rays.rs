@@ -134,7 +134,7 @@ pub fn trace_shadow_packets<S: PrimitiveStore>(
                 }
                 let hit = level.run(
                     #[inline(always)]
-                    || occluded(scene, &p, &mut Default::default()),
+                    || occluded(scene, &p, penumbra::trace::packet::Origins::Apart, &mut Default::default()),
                 );
                 blocked += hit.iter().filter(|&&b| b).count();
             }

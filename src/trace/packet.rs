@@ -105,6 +105,7 @@ pub fn closest_hits<const N: usize, S: PrimitiveStore>(
 pub fn occluded<const N: usize, S: PrimitiveStore>(
     scene: &TraceScene<S>,
     packet: &RayPacket<N>,
+    origins: Origins,
     cost: &mut TraversalCost,
 ) -> [bool; N] {
     debug_assert!(!scene.effects.transmission, "`occluded` is for opaque scenes; see `transmittances`");
@@ -141,7 +142,7 @@ pub fn occluded<const N: usize, S: PrimitiveStore>(
     }
     let store = &scene.store;
     let (mut pass, open) = planes_part(scene, packet, cost);
-    if scattered(scene, packet, &open) {
+    if scattered(scene, packet, origins, &open) {
         alone(scene, packet, &open, &mut pass, cost);
         return std::array::from_fn(|i| packet.active[i] && pass[i] == Vec3::ZERO);
     }
@@ -170,13 +171,26 @@ pub fn occluded<const N: usize, S: PrimitiveStore>(
 pub fn shadow_passes<const N: usize, S: PrimitiveStore>(
     scene: &TraceScene<S>,
     packet: &RayPacket<N>,
+    origins: Origins,
     cost: &mut TraversalCost,
 ) -> [Vec3; N] {
     if scene.effects.transmission {
-        transmittances(scene, packet, cost)
+        transmittances(scene, packet, origins, cost)
     } else {
-        occluded(scene, packet, cost).map(|blocked| if blocked { Vec3::ZERO } else { Vec3::ONE })
+        occluded(scene, packet, origins, cost).map(|blocked| if blocked { Vec3::ZERO } else { Vec3::ONE })
     }
+}
+
+/// Where a shadow packet's rays start. The area-light shadow rays of one shading point share
+/// their origin; the shadow rays from a packet's camera hits towards a light start apart, and
+/// where those origins are scattered over more than two cells of the grid (hits at different
+/// depths) the rays walk alone.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Origins {
+    /// Every active lane starts at the same point: never scattered, so not measured.
+    Shared,
+    /// The lanes start at different points.
+    Apart,
 }
 
 /// Every active lane's shadow transmittance in a scene with transmission: planes lane by lane,
@@ -191,6 +205,7 @@ pub fn shadow_passes<const N: usize, S: PrimitiveStore>(
 pub fn transmittances<const N: usize, S: PrimitiveStore>(
     scene: &TraceScene<S>,
     packet: &RayPacket<N>,
+    origins: Origins,
     cost: &mut TraversalCost,
 ) -> [Vec3; N] {
     use super::visibility::ordered_product;
@@ -263,7 +278,7 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
         }
     }
     let (mut pass, open) = planes_part(scene, packet, cost);
-    if scattered(scene, packet, &open) {
+    if scattered(scene, packet, origins, &open) {
         alone(scene, packet, &open, &mut pass, cost);
         return pass;
     }
@@ -338,14 +353,19 @@ fn screen<S: PrimitiveStore>(store: &S, ids: &[u32], footprint: &Aabb) -> u64 {
 
 /// True when the `open` lanes' origins are scattered over more than two cells (shadow rays from
 /// hits at different depths): their frustum would sweep many cells per ray, so they walk alone
-/// from the start.
+/// from the start. [`Origins::Shared`] never is.
 #[inline(always)]
 fn scattered<const N: usize, S: PrimitiveStore>(
     scene: &TraceScene<S>,
     packet: &RayPacket<N>,
+    origins: Origins,
     open: &[bool; N],
 ) -> bool {
-    origin_spread(packet, open) > 2.0 * scene.grid.cell_size.max_element()
+    debug_assert!(
+        origins == Origins::Apart || origin_spread(packet, &packet.active) == 0.0,
+        "a packet said to share its origin does not"
+    );
+    origins == Origins::Apart && origin_spread(packet, open) > 2.0 * scene.grid.cell_size.max_element()
 }
 
 /// Each of the `lanes`' whole shadow transmittance, traced alone, into `pass`.

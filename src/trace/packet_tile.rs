@@ -5,7 +5,7 @@
 use super::camera_samples::CameraSampler;
 use super::finite::SampleMean;
 use super::integrator::{bounce, visible_light, Lit, ShadingPoint};
-use super::packet::{closest_hits, shadow_passes, LANES, MIN_LANES};
+use super::packet::{closest_hits, shadow_passes, Origins, LANES, MIN_LANES};
 use super::path::{CameraSample, PathContext, ShadowHint, HINTED_LIGHTS};
 use super::phong::{direct_light, point_lights};
 use super::scene::TraceScene;
@@ -194,7 +194,7 @@ pub(super) fn point_light_shadows<S: PrimitiveStore>(
         let mut cost = TraversalCost::default();
         let pass = level.run(
             #[inline(always)]
-            || shadow_passes(scene, &shadow, &mut cost),
+            || shadow_passes(scene, &shadow, Origins::Apart, &mut cost),
         );
         let each = cost.per_ray(lanes);
         for lane in 0..LANES {

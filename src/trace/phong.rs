@@ -4,7 +4,7 @@
 
 use super::light::Light;
 use super::material::Material;
-use super::packet::{shadow_passes, LANES, MIN_LANES};
+use super::packet::{shadow_passes, Origins, LANES, MIN_LANES};
 use super::path::{EffectSamples, PathContext, ShadowHint};
 use super::scene::TraceScene;
 use super::stats::RayCounts;
@@ -225,7 +225,8 @@ fn add_lit<S: PrimitiveStore>(
         #[inline(always)]
         || {
             packet.reciprocals();
-            shadow_passes(scene, packet, &mut cost)
+            // The rays of one shading point.
+            shadow_passes(scene, packet, Origins::Shared, &mut cost)
         },
     );
     let each = cost.per_ray(lit.len() as u32);
