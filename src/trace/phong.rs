@@ -95,7 +95,7 @@ fn known(hint: Option<ShadowHint>, j: usize) -> Option<Vec3> {
 /// What point, spot or directional light `light` adds to the surface `s` of material `m` seen
 /// from `view` (`None` for nothing: the surface faces away, or the light is blocked): its shadow
 /// ray's transmittance is `known`, or traced at time `time`.
-#[inline]
+#[inline(always)]
 fn point_light<S: PrimitiveStore>(
     scene: &TraceScene<S>,
     light: &Light,
