@@ -158,23 +158,10 @@ impl<const N: usize> Frame<'_, N> {
                 hi[c][i] = if valid { max(pa, pb) } else { f32::NEG_INFINITY };
             }
         }
-        // Halving reductions: the lanes pair up, so the compiler keeps them in vector registers.
-        let mut width = N;
-        while width > 1 {
-            let half = width / 2;
-            for c in 0..2 {
-                for i in 0..half {
-                    lo[c][i] = min(lo[c][i], lo[c][i + half]);
-                    hi[c][i] = max(hi[c][i], hi[c][i + half]);
-                }
-                if width % 2 == 1 {
-                    lo[c][0] = min(lo[c][0], lo[c][width - 1]);
-                    hi[c][0] = max(hi[c][0], hi[c][width - 1]);
-                }
-            }
-            width = half;
-        }
-        let ext = [[lo[0][0], hi[0][0]], [lo[1][0], hi[1][0]]];
+        let ext = [0, 1].map(|c| {
+            let (l, h) = extent(lo[c], hi[c]);
+            [l, h]
+        });
         if ext[0][0] > ext[0][1] {
             return None;
         }

@@ -120,7 +120,7 @@ pub(super) fn shade_packet<S: PrimitiveStore>(
     });
     let hints = point_light_shadows(scene, &surfaces, level, rays);
     // No light is sampled: direct light needs no path context ([`point_lights`]).
-    let point_lit = scene.lights.iter().all(|l| !l.is_area());
+    let point_lit = !scene.effects.area_lights;
     std::array::from_fn(|lane| {
         let camera = cameras[lane]?;
         let ray = packet.ray(lane);
