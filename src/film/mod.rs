@@ -44,7 +44,9 @@ pub struct Film {
 impl Film {
     /// A black film.
     pub fn new(width: u32, height: u32) -> Self {
-        Self { width, height, pixels: vec![Vec3::ZERO; width as usize * height as usize] }
+        // Zeroed by the allocator (fresh pages need no writing), not element by element: a
+        // frame's film is allocated on the renderer's serial path.
+        Self { width, height, pixels: bytemuck::zeroed_vec(width as usize * height as usize) }
     }
 
     /// The colour at `(x, y)`.
