@@ -161,7 +161,9 @@ impl UniformGrid {
         let mut out = [0u32; 3];
         for axis in 0..3 {
             let d = self.dims[axis];
-            let mut c = (rel[axis].floor().max(0.0) as u32).min(d - 1);
+            // Truncation is the floor of a non-negative value, and `max` sends negatives and
+            // NaN to 0 first: no rounding call.
+            let mut c = (rel[axis].max(0.0) as u32).min(d - 1);
             if c > 0 && p[axis] < self.plane(axis, c) {
                 c -= 1;
             } else if c + 1 < d && p[axis] >= self.plane(axis, c + 1) {

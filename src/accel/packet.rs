@@ -136,8 +136,9 @@ impl<const N: usize> Frame<'_, N> {
     #[inline(always)]
     fn cell_of(&self, axis: usize, c: f32) -> i64 {
         let g = self.grid;
-        let f = ((c - g.bounds.min[axis]) * g.inv_cell_size[axis]).floor();
-        // NaN (only from infinite inputs) clamps to the first cell, as `max` drops it.
+        let f = (c - g.bounds.min[axis]) * g.inv_cell_size[axis];
+        // NaN (only from infinite inputs) clamps to the first cell, as `max` drops it; then
+        // truncation is the floor of the non-negative value.
         (f.max(0.0) as i64).min(i64::from(g.dims[axis]) - 1)
     }
 
