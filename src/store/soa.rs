@@ -69,6 +69,70 @@ impl SoaStore {
             (&*self.meshes[self.instance_mesh[i] as usize], self.instance_to_object.get(i))
         })
     }
+
+    /// [`PrimitiveStore::intersect_bounded`] of bounded object `id`, a sphere.
+    #[inline(always)]
+    fn sphere_hit<T: Tally>(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32, cost: &mut T) -> Option<Hit> {
+        cost.tests(1);
+        let i = self.first[id as usize] as usize;
+        sphere::intersect(self.centre.get(i), self.radius[i], ray, t_min, t_max)
+            .map(|t| Hit::new(t, ObjectId::bounded(id), 0))
+    }
+
+    /// [`PrimitiveStore::intersect_bounded`] of any bounded object, out of line (spheres, the
+    /// commonest, take the inlined [`SoaStore::sphere_hit`] first).
+    fn intersect_any<T: Tally>(
+        &self,
+        id: u32,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        cost: &mut T,
+    ) -> Option<Hit> {
+        let o = id as usize;
+        let first = self.first[o] as usize;
+        match self.kind[o] {
+            Kind::Sphere => self.sphere_hit(id, ray, t_min, t_max, cost),
+            Kind::Triangles => {
+                let count = self.count[o];
+                cost.tests(count);
+                super::triangle_range_hit(
+                    &self.triangles,
+                    ObjectId::bounded(id),
+                    first as u32,
+                    count,
+                    ray,
+                    t_min,
+                    t_max,
+                )
+            }
+            Kind::Cuboid => {
+                cost.tests(1);
+                let to_object = self.box_to_object.get(first);
+                super::cuboid_hit(
+                    &to_object,
+                    self.box_min.get(first),
+                    self.box_max.get(first),
+                    ObjectId::bounded(id),
+                    ray,
+                    t_min,
+                    t_max,
+                )
+            }
+            Kind::Instance => {
+                let mesh = &self.meshes[self.instance_mesh[first] as usize];
+                mesh::instance_hit(
+                    mesh,
+                    &self.instance_to_object.get(first),
+                    ObjectId::bounded(id),
+                    ray,
+                    t_min,
+                    t_max,
+                    cost,
+                )
+            }
+        }
+    }
 }
 
 impl PrimitiveStore for SoaStore {
@@ -140,65 +204,27 @@ impl PrimitiveStore for SoaStore {
         t_max: f32,
         cost: &mut T,
     ) -> Option<Hit> {
-        let o = id as usize;
-        let first = self.first[o] as usize;
-        match self.kind[o] {
-            Kind::Sphere => {
-                cost.tests(1);
-                sphere::intersect(self.centre.get(first), self.radius[first], ray, t_min, t_max)
-                    .map(|t| Hit::new(t, ObjectId::bounded(id), 0))
-            }
-            Kind::Triangles => {
-                let count = self.count[o];
-                cost.tests(count);
-                super::triangle_range_hit(
-                    &self.triangles,
-                    ObjectId::bounded(id),
-                    first as u32,
-                    count,
-                    ray,
-                    t_min,
-                    t_max,
-                )
-            }
-            Kind::Cuboid => {
-                cost.tests(1);
-                let to_object = self.box_to_object.get(first);
-                super::cuboid_hit(
-                    &to_object,
-                    self.box_min.get(first),
-                    self.box_max.get(first),
-                    ObjectId::bounded(id),
-                    ray,
-                    t_min,
-                    t_max,
-                )
-            }
-            Kind::Instance => {
-                let mesh = &self.meshes[self.instance_mesh[first] as usize];
-                mesh::instance_hit(
-                    mesh,
-                    &self.instance_to_object.get(first),
-                    ObjectId::bounded(id),
-                    ray,
-                    t_min,
-                    t_max,
-                    cost,
-                )
-            }
+        // Spheres, the commonest object, are tested in the caller's loop.
+        match self.kind[id as usize] {
+            Kind::Sphere => self.sphere_hit(id, ray, t_min, t_max, cost),
+            _ => self.intersect_any(id, ray, t_min, t_max, cost),
         }
     }
 
     #[inline]
     fn occludes_bounded<T: Tally>(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32, cost: &mut T) -> bool {
         let o = id as usize;
-        if self.kind[o] == Kind::Instance {
-            let i = self.first[o] as usize;
-            let mesh = &self.meshes[self.instance_mesh[i] as usize];
-            let local = mesh::object_ray(&self.instance_to_object.get(i), ray);
-            return mesh::occluded(mesh, &local, t_min, t_max, cost);
+        match self.kind[o] {
+            Kind::Instance => {
+                let i = self.first[o] as usize;
+                let mesh = &self.meshes[self.instance_mesh[i] as usize];
+                let local = mesh::object_ray(&self.instance_to_object.get(i), ray);
+                mesh::occluded(mesh, &local, t_min, t_max, cost)
+            }
+            // The commonest blocker.
+            Kind::Sphere => self.sphere_hit(id, ray, t_min, t_max, cost).is_some(),
+            _ => self.intersect_any(id, ray, t_min, t_max, cost).is_some(),
         }
-        self.intersect_bounded(id, ray, t_min, t_max, cost).is_some()
     }
 
     #[inline(always)]
