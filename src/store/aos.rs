@@ -104,6 +104,63 @@ impl AosStore {
     }
 }
 
+/// [`PrimitiveStore::intersect_bounded`] of the sphere that is bounded object `id`.
+#[inline(always)]
+fn sphere_hit<T: Tally>(
+    centre: Vec3,
+    radius: f32,
+    id: u32,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+    cost: &mut T,
+) -> Option<Hit> {
+    cost.tests(1);
+    sphere::intersect(centre, radius, ray, t_min, t_max).map(|t| Hit::new(t, ObjectId::bounded(id), 0))
+}
+
+impl AosStore {
+    /// [`PrimitiveStore::intersect_bounded`] of any bounded object, out of line (spheres, the
+    /// commonest, take the inlined [`sphere_hit`] first).
+    fn intersect_any<T: Tally>(
+        &self,
+        id: u32,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        cost: &mut T,
+    ) -> Option<Hit> {
+        match &self.objects[id as usize].shape {
+            AosShape::Sphere { centre, radius } => sphere_hit(*centre, *radius, id, ray, t_min, t_max, cost),
+            AosShape::Triangles { first, count } => {
+                cost.tests(*count);
+                super::triangle_range_hit(
+                    &self.triangles,
+                    ObjectId::bounded(id),
+                    *first,
+                    *count,
+                    ray,
+                    t_min,
+                    t_max,
+                )
+            }
+            AosShape::Cuboid { to_object, min, max } => {
+                cost.tests(1);
+                super::cuboid_hit(to_object, *min, *max, ObjectId::bounded(id), ray, t_min, t_max)
+            }
+            AosShape::Instance { to_object, mesh } => mesh::instance_hit(
+                &self.meshes[*mesh as usize],
+                to_object,
+                ObjectId::bounded(id),
+                ray,
+                t_min,
+                t_max,
+                cost,
+            ),
+        }
+    }
+}
+
 impl PrimitiveStore for AosStore {
     type Triangles = AosTriangles;
 
@@ -160,47 +217,26 @@ impl PrimitiveStore for AosStore {
         t_max: f32,
         cost: &mut T,
     ) -> Option<Hit> {
+        // Spheres, the commonest object, are tested in the caller's loop (as the SoA store does).
         match &self.objects[id as usize].shape {
-            AosShape::Sphere { centre, radius } => {
-                cost.tests(1);
-                sphere::intersect(*centre, *radius, ray, t_min, t_max)
-                    .map(|t| Hit::new(t, ObjectId::bounded(id), 0))
-            }
-            AosShape::Triangles { first, count } => {
-                cost.tests(*count);
-                super::triangle_range_hit(
-                    &self.triangles,
-                    ObjectId::bounded(id),
-                    *first,
-                    *count,
-                    ray,
-                    t_min,
-                    t_max,
-                )
-            }
-            AosShape::Cuboid { to_object, min, max } => {
-                cost.tests(1);
-                super::cuboid_hit(to_object, *min, *max, ObjectId::bounded(id), ray, t_min, t_max)
-            }
-            AosShape::Instance { to_object, mesh } => mesh::instance_hit(
-                &self.meshes[*mesh as usize],
-                to_object,
-                ObjectId::bounded(id),
-                ray,
-                t_min,
-                t_max,
-                cost,
-            ),
+            AosShape::Sphere { centre, radius } => sphere_hit(*centre, *radius, id, ray, t_min, t_max, cost),
+            _ => self.intersect_any(id, ray, t_min, t_max, cost),
         }
     }
 
     #[inline]
     fn occludes_bounded<T: Tally>(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32, cost: &mut T) -> bool {
-        if let AosShape::Instance { to_object, mesh } = &self.objects[id as usize].shape {
-            let local = mesh::object_ray(to_object, ray);
-            return mesh::occluded(&self.meshes[*mesh as usize], &local, t_min, t_max, cost);
+        match &self.objects[id as usize].shape {
+            AosShape::Instance { to_object, mesh } => {
+                let local = mesh::object_ray(to_object, ray);
+                mesh::occluded(&self.meshes[*mesh as usize], &local, t_min, t_max, cost)
+            }
+            // The commonest blocker.
+            AosShape::Sphere { centre, radius } => {
+                sphere_hit(*centre, *radius, id, ray, t_min, t_max, cost).is_some()
+            }
+            _ => self.intersect_any(id, ray, t_min, t_max, cost).is_some(),
         }
-        self.intersect_bounded(id, ray, t_min, t_max, cost).is_some()
     }
 
     #[inline(always)]
