@@ -91,7 +91,11 @@ pub(super) fn assemble(settings: &RenderSettings, tiles: &[TileResult], want_cos
         .zip(tiles.par_chunks(tiles_x))
         .for_each(|(rows, band_tiles)| place(rows, band_tiles, w, |(pixels, ..)| pixels));
     // Every path (fixed samples or adaptive) reaches the film here, finite by construction.
-    debug_assert!(film.pixels.iter().all(|c| c.is_finite()), "non-finite radiance reached the film");
+    debug_assert!(
+        film.pixels.iter().all(|c| c.is_finite()),
+        "non-finite radiance at pixel index {:?}",
+        film.pixels.iter().position(|c| !c.is_finite())
+    );
     let cost = want_cost.then(|| {
         let mut cost = vec![0u32; w as usize * h as usize];
         cost.par_chunks_mut(band)
