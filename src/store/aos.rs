@@ -104,24 +104,9 @@ impl AosStore {
     }
 }
 
-/// [`PrimitiveStore::intersect_bounded`] of the sphere that is bounded object `id`.
-#[inline(always)]
-fn sphere_hit<T: Tally>(
-    centre: Vec3,
-    radius: f32,
-    id: u32,
-    ray: &Ray,
-    t_min: f32,
-    t_max: f32,
-    cost: &mut T,
-) -> Option<Hit> {
-    cost.tests(1);
-    sphere::intersect(centre, radius, ray, t_min, t_max).map(|t| Hit::new(t, ObjectId::bounded(id), 0))
-}
-
 impl AosStore {
     /// [`PrimitiveStore::intersect_bounded`] of any bounded object, out of line (spheres, the
-    /// commonest, take the inlined [`sphere_hit`] first).
+    /// commonest, take the inlined [`super::sphere_hit`] first).
     fn intersect_any<T: Tally>(
         &self,
         id: u32,
@@ -131,7 +116,9 @@ impl AosStore {
         cost: &mut T,
     ) -> Option<Hit> {
         match &self.objects[id as usize].shape {
-            AosShape::Sphere { centre, radius } => sphere_hit(*centre, *radius, id, ray, t_min, t_max, cost),
+            AosShape::Sphere { centre, radius } => {
+                super::sphere_hit(*centre, *radius, id, ray, t_min, t_max, cost)
+            }
             AosShape::Triangles { first, count } => {
                 cost.tests(*count);
                 super::triangle_range_hit(
@@ -219,7 +206,9 @@ impl PrimitiveStore for AosStore {
     ) -> Option<Hit> {
         // Spheres, the commonest object, are tested in the caller's loop (as the SoA store does).
         match &self.objects[id as usize].shape {
-            AosShape::Sphere { centre, radius } => sphere_hit(*centre, *radius, id, ray, t_min, t_max, cost),
+            AosShape::Sphere { centre, radius } => {
+                super::sphere_hit(*centre, *radius, id, ray, t_min, t_max, cost)
+            }
             _ => self.intersect_any(id, ray, t_min, t_max, cost),
         }
     }
@@ -233,7 +222,7 @@ impl PrimitiveStore for AosStore {
             }
             // The commonest blocker.
             AosShape::Sphere { centre, radius } => {
-                sphere_hit(*centre, *radius, id, ray, t_min, t_max, cost).is_some()
+                super::sphere_hit(*centre, *radius, id, ray, t_min, t_max, cost).is_some()
             }
             _ => self.intersect_any(id, ray, t_min, t_max, cost).is_some(),
         }

@@ -293,6 +293,23 @@ pub trait PrimitiveStore: Send + Sync + Sized + std::fmt::Debug + 'static {
     fn meshes(&self) -> &[Arc<MeshEntry<Self::Triangles>>];
 }
 
+/// Hit with the sphere that is bounded object `id`, counting one test: both stores' sphere
+/// path, inlined into the single-ray walks' loops.
+#[inline(always)]
+pub(crate) fn sphere_hit<T: Tally>(
+    centre: Vec3,
+    radius: f32,
+    id: u32,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+    cost: &mut T,
+) -> Option<Hit> {
+    cost.tests(1);
+    crate::geom::sphere::intersect(centre, radius, ray, t_min, t_max)
+        .map(|t| Hit::new(t, ObjectId::bounded(id), 0))
+}
+
 /// Nearest hit among triangles `first..first + count` of a layout (a scene triangle or polygon).
 #[inline]
 pub(crate) fn triangle_range_hit<L: TriangleLayout>(

@@ -73,10 +73,8 @@ impl SoaStore {
     /// [`PrimitiveStore::intersect_bounded`] of bounded object `id`, a sphere.
     #[inline(always)]
     fn sphere_hit<T: Tally>(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32, cost: &mut T) -> Option<Hit> {
-        cost.tests(1);
         let i = self.first[id as usize] as usize;
-        sphere::intersect(self.centre.get(i), self.radius[i], ray, t_min, t_max)
-            .map(|t| Hit::new(t, ObjectId::bounded(id), 0))
+        super::sphere_hit(self.centre.get(i), self.radius[i], id, ray, t_min, t_max, cost)
     }
 
     /// [`PrimitiveStore::intersect_bounded`] of any bounded object, out of line (spheres, the
