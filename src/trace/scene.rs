@@ -155,12 +155,20 @@ impl<S: PrimitiveStore> TraceScene<S> {
     /// [`TraceScene::material_at`], and the unit shading normal `ns` (facing the viewer) tilted by
     /// the material's bump map there (`ns` itself without one, or where the surface has no
     /// texture derivatives).
-    #[inline]
+    #[inline(always)]
     pub fn shade_at(&self, m: &Material, hit: &Hit, point: Vec3, ns: Vec3, s: f32) -> (Material, Vec3) {
-        let mut m = *m;
+        // The untextured case, every hit of most scenes, stays in the caller whatever the
+        // inliner's budget there; the texture lookups are a call of their own.
         if m.maps.is_empty() {
-            return (m, ns);
+            return (*m, ns);
         }
+        self.textured(m, hit, point, ns, s)
+    }
+
+    /// [`TraceScene::shade_at`] of a material with texture maps.
+    #[inline(never)]
+    fn textured(&self, m: &Material, hit: &Hit, point: Vec3, ns: Vec3, s: f32) -> (Material, Vec3) {
+        let mut m = *m;
         let su = self.uv(hit, point, s);
         if let Some(t) = m.maps.kd {
             m.kd *= self.textures[t.0 as usize].eval(su.uv);
