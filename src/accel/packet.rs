@@ -183,6 +183,19 @@ impl<const N: usize> Frame<'_, N> {
     }
 }
 
+/// How a [`coherent_walk`] ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[must_use]
+pub enum Walk<const N: usize> {
+    /// Every lane's walk is over: the sink has each lane's result.
+    Finished,
+    /// The packet gave up part way. The lanes marked still need their own walks, up to their
+    /// search bounds (a lane's walk ends, as a single ray's does, once its nearest hit so far
+    /// lies before the far wall of the last slice searched, or once it has left the grid: what
+    /// the sink has for such a lane is its result); the others are done.
+    GaveUp([bool; N]),
+}
+
 /// Walks `grid` with the `live` lanes of `packet` as one frustum, slice by slice along the
 /// dominant axis, handing every object in each slice's rectangle of cells to `sink` once.
 ///
@@ -190,12 +203,12 @@ impl<const N: usize> Frame<'_, N> {
 /// cell of a slice's rectangle is at least `m` cells from any object, the next `m − 1` slices
 /// are empty wherever their own rectangle stays within `m − 1` cells of it.
 ///
-/// Returns `None` when the packet is not coherent enough to walk together (and `Some` when it
-/// walked, or when no lane meets the grid): when the live lanes
-/// disagree on the sign of the dominant axis (or move along it not at all), or when a slice's
-/// rectangle holds more than `CELLS_PER_LANE` cells per walking lane (rays spreading apart, or
-/// crossing the grid at a shallow angle to the slices). What the sink has found so far stands;
-/// the caller finishes the lanes one by one. `cells` counts the cells visited.
+/// Gives up ([`Walk::GaveUp`]) when the packet is not coherent enough to walk together: when
+/// the live lanes disagree on the sign of the dominant axis (or move along it not at all), or
+/// when a slice's rectangle holds more than `CELLS_PER_LANE` cells per walking lane (rays
+/// spreading apart, or crossing the grid at a shallow angle to the slices). What the sink has
+/// found so far stands, and the lanes whose walk had already ended are done; the caller
+/// finishes the others one by one. `cells` counts the cells visited.
 #[inline(always)]
 pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
     grid: &UniformGrid,
@@ -203,11 +216,11 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
     live: &[bool; N],
     sink: &mut K,
     cells: &mut u32,
-) -> Option<()> {
+) -> Walk<N> {
     // Each lane's range inside the grid, exactly as a single ray's walk clips it.
     let (inside, t_in, t_out) = grid.bounds.clip_lanes(packet, live, sink.bound());
     // No lane meets the grid: nothing to walk.
-    let Some(first) = inside.iter().position(|&inside| inside) else { return Some(()) };
+    let Some(first) = inside.iter().position(|&inside| inside) else { return Walk::Finished };
     // The dominant axis of the first lane; every lane must move along it the same way, with a
     // finite reciprocal.
     let d0 = [packet.dir[0][first], packet.dir[1][first], packet.dir[2][first]];
@@ -222,7 +235,7 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
     for i in 0..N {
         let along = if forward { packet.dir[k][i] > 0.0 } else { packet.dir[k][i] < 0.0 };
         if inside[i] && !(along && packet.inv_dir[k][i].is_finite()) {
-            return None;
+            return Walk::GaveUp(inside);
         }
     }
     let axes = [k, (k + 1) % 3, (k + 2) % 3];
@@ -274,7 +287,7 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
         if let Some(r) = frame.rect(w_near, w_far, &walking, sink.bound()) {
             let lanes = walking.iter().filter(|&&w| w).count() as i64;
             if (r.u[1] - r.u[0] + 1) * (r.v[1] - r.v[0] + 1) > CELLS_PER_LANE * lanes {
-                return None;
+                return Walk::GaveUp(walking);
             }
             let mut clearance = u8::MAX;
             for cv in r.v[0]..=r.v[1] {
@@ -337,5 +350,76 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
         }
         s += step;
     }
-    Some(())
+    Walk::Finished
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::GridBuilder;
+    use crate::math::Ray;
+
+    /// Records which lanes reach a visit, and ends lanes 0 and 1 at `t = 1` on their first.
+    struct EndTwo {
+        bound: [f32; 16],
+    }
+
+    impl PacketSink<16> for EndTwo {
+        fn bound(&self) -> &[f32; 16] {
+            &self.bound
+        }
+        fn visit(&mut self, _id: u32, live: &[bool; 16]) {
+            for i in 0..2 {
+                if live[i] && self.bound[i] == f32::INFINITY {
+                    self.bound[i] = 1.0;
+                }
+            }
+        }
+    }
+
+    /// A 10 × 10 × 10 lattice of overlapping boxes: every cell of the grid holds some.
+    fn lattice() -> UniformGrid {
+        let bounds: Vec<Aabb> = (0..1000)
+            .map(|n| {
+                let c = Vec3::new((n % 10) as f32, (n / 10 % 10) as f32, (n / 100) as f32);
+                Aabb::new(c - 0.1, c + 1.1)
+            })
+            .collect();
+        let grid = GridBuilder::new(1.0).build(&bounds, |_, _| true);
+        assert!(grid.dims.iter().all(|&d| (8..=12).contains(&d)), "{:?}", grid.dims);
+        grid
+    }
+
+    #[test]
+    fn a_walk_that_gives_up_hands_back_only_the_lanes_still_walking() {
+        let grid = lattice();
+        let mut packet = RayPacket::<16>::default();
+        let from = Vec3::new(5.5, 5.5, -1.0);
+        // Lanes 0 and 1 end in the first slice (the sink gives them a hit at t = 1, z = 0);
+        // lanes 2 and 3 spread apart by two cells per slice, which overflows the second
+        // slice's cell budget once they walk alone; lane 4 misses the grid.
+        packet.set(0, &Ray::new(from, Vec3::Z), 0.0, f32::INFINITY);
+        packet.set(1, &Ray::new(from + Vec3::X * 0.01, Vec3::Z), 0.0, f32::INFINITY);
+        packet.set(2, &Ray::new(from, Vec3::new(2.0, 0.0, 1.0)), 0.0, f32::INFINITY);
+        packet.set(3, &Ray::new(from, Vec3::new(-2.0, 0.0, 1.0)), 0.0, f32::INFINITY);
+        packet.set(4, &Ray::new(Vec3::new(50.0, 50.0, -1.0), Vec3::Z), 0.0, f32::INFINITY);
+        let live: [bool; 16] = std::array::from_fn(|i| i < 5);
+        let mut sink = EndTwo { bound: [f32::INFINITY; 16] };
+        let walked = coherent_walk(&grid, &packet, &live, &mut sink, &mut 0);
+        let want: [bool; 16] = std::array::from_fn(|i| i == 2 || i == 3);
+        assert_eq!(walked, Walk::GaveUp(want));
+        assert_eq!(sink.bound[..2], [1.0, 1.0], "lanes 0 and 1 were visited and ended");
+
+        // Without the spreading lanes the same walk finishes.
+        let narrow: [bool; 16] = std::array::from_fn(|i| i < 2 || i == 4);
+        let mut sink = EndTwo { bound: [f32::INFINITY; 16] };
+        assert_eq!(coherent_walk(&grid, &packet, &narrow, &mut sink, &mut 0), Walk::Finished);
+
+        // Lanes that disagree on the direction along the dominant axis give up at once: every
+        // lane inside the grid is handed back, and the one that misses it is not.
+        packet.set(1, &Ray::new(from + Vec3::Z * 20.0, -Vec3::Z), 0.0, f32::INFINITY);
+        let mut sink = EndTwo { bound: [f32::INFINITY; 16] };
+        let want: [bool; 16] = std::array::from_fn(|i| i < 2);
+        assert_eq!(coherent_walk(&grid, &packet, &narrow, &mut sink, &mut 0), Walk::GaveUp(want));
+    }
 }

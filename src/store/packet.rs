@@ -6,7 +6,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::{Hit, MeshEntry, ObjectId, TraversalCost, TriangleLayout};
-use crate::accel::packet::{coherent_walk, PacketSink};
+use crate::accel::packet::{coherent_walk, PacketSink, Walk};
 use crate::geom::triangle::{triangle_lanes, TriangleHit, WatertightPacket};
 use crate::math::{Aabb, RayPacket};
 
@@ -37,7 +37,7 @@ impl<const N: usize> PacketHits<N> {
 }
 
 /// The nearest triangle hits of a packet in a mesh (in object space), by coherent traversal of
-/// the mesh grid; lanes that cannot walk together walk alone. `record(lane, index, hit)` gets
+/// the mesh grid; lanes that cannot walk together finish alone. `record(lane, index, hit)` gets
 /// every improvement; `bound` is each lane's search bound.
 #[inline(always)]
 pub fn mesh_hits<const N: usize, L: TriangleLayout>(
@@ -48,6 +48,33 @@ pub fn mesh_hits<const N: usize, L: TriangleLayout>(
     cost: &mut TraversalCost,
     mut record: impl FnMut(usize, u32, TriangleHit),
 ) {
+    let Walk::GaveUp(unfinished) = mesh_walk(mesh, packet, live, bound, cost, &mut record) else { return };
+    for i in 0..N {
+        if unfinished[i] {
+            let mut lane = TraversalCost::default();
+            let found = super::mesh::intersect(mesh, &packet.ray(i), packet.t_min[i], bound[i], &mut lane);
+            cost.cells += lane.cells;
+            cost.tests += lane.tests;
+            if let Some((k, h)) = found {
+                bound[i] = h.t;
+                record(i, k, h);
+            }
+        }
+    }
+}
+
+/// The coherent walk of the `live` lanes through the mesh grid, for [`mesh_hits`] and
+/// [`mesh_occluded`]: each triangle met is tested against every walking lane, `bound` tightens
+/// and `record` hears of each improvement.
+#[inline(always)]
+fn mesh_walk<const N: usize, L: TriangleLayout>(
+    mesh: &MeshEntry<L>,
+    packet: &RayPacket<N>,
+    live: &[bool; N],
+    bound: &mut [f32; N],
+    cost: &mut TraversalCost,
+    record: impl FnMut(usize, u32, TriangleHit),
+) -> Walk<N> {
     struct Tris<'a, const N: usize, L: TriangleLayout, R: FnMut(usize, u32, TriangleHit)> {
         triangles: &'a L,
         w: WatertightPacket<N>,
@@ -90,27 +117,13 @@ pub fn mesh_hits<const N: usize, L: TriangleLayout>(
         t_min: packet.t_min,
         bound,
         tests: 0,
-        record: &mut record,
+        record,
     };
     let mut cells = 0;
     let walked = coherent_walk(grid, packet, live, &mut sink, &mut cells);
     cost.cells += cells;
     cost.tests += sink.tests;
-    if walked.is_some() {
-        return;
-    }
-    for i in 0..N {
-        if live[i] {
-            let mut lane = TraversalCost::default();
-            let found = super::mesh::intersect(mesh, &packet.ray(i), packet.t_min[i], bound[i], &mut lane);
-            cost.cells += lane.cells;
-            cost.tests += lane.tests;
-            if let Some((k, h)) = found {
-                bound[i] = h.t;
-                record(i, k, h);
-            }
-        }
-    }
+    walked
 }
 
 /// Each `live` lane's nearest hit with bounded object `id`, one lane at a time through the
@@ -185,12 +198,19 @@ pub fn mesh_occluded<const N: usize, L: TriangleLayout>(
     occluded: &mut [bool; N],
     cost: &mut TraversalCost,
 ) {
-    // A blocked lane's bound drops to −∞: the walk lets it go and no kernel can hit it again.
     let mut bound = packet.t_max;
     let mut found = [false; N];
-    mesh_hits(mesh, packet, live, &mut bound, cost, |i, _, _| found[i] = true);
-    // `mesh_hits` walks with nearest-hit bounds; for any-hit, a hit anywhere in range is enough,
-    // and every lane with one has been given one (its nearest, which is in range).
+    let walked = mesh_walk(mesh, packet, live, &mut bound, cost, |i, _, _| found[i] = true);
+    // The walk searches with nearest-hit bounds; for any-hit, a hit anywhere in range is enough,
+    // so a lane with one is done whether or not its walk was, and the others finish alone.
+    if let Walk::GaveUp(unfinished) = walked {
+        for i in 0..N {
+            if unfinished[i] && !found[i] {
+                found[i] =
+                    super::mesh::occluded(mesh, &packet.ray(i), packet.t_min[i], packet.t_max[i], cost);
+            }
+        }
+    }
     for i in 0..N {
         occluded[i] |= found[i];
     }

@@ -24,7 +24,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::scene::TraceScene;
-use crate::accel::packet::{coherent_walk, extent, PacketSink};
+use crate::accel::packet::{coherent_walk, extent, PacketSink, Walk};
 use crate::math::{Aabb, RayPacket, Vec3};
 use crate::store::{PacketHits, PrimitiveStore, TraversalCost};
 
@@ -83,9 +83,9 @@ pub fn closest_hits<const N: usize, S: PrimitiveStore>(
     let Objects { mut hits, cost: tested, .. } = sink;
     cost.cells += cells + tested.cells;
     cost.tests += tested.tests;
-    if walked.is_none() {
+    if let Walk::GaveUp(unfinished) = walked {
         for i in 0..N {
-            if packet.active[i] {
+            if unfinished[i] {
                 let ray = packet.ray(i);
                 let bound = hits.t[i];
                 let found = super::visibility::grid_hit(scene, &ray, packet.t_min[i], bound, cost);
@@ -154,8 +154,8 @@ pub fn occluded<const N: usize, S: PrimitiveStore>(
     let Blockers { mut occluded, cost: tested, .. } = sink;
     cost.cells += cells + tested.cells;
     cost.tests += tested.tests;
-    if walked.is_none() {
-        let rest = std::array::from_fn(|i| open[i] && !occluded[i]);
+    if let Walk::GaveUp(unfinished) = walked {
+        let rest = std::array::from_fn(|i| unfinished[i] && !occluded[i]);
         alone(scene, packet, &rest, &mut pass, cost);
         for i in 0..N {
             occluded[i] |= rest[i] && pass[i] == Vec3::ZERO;
@@ -290,7 +290,7 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
     let Shares { bound, mut met, cost: tested, .. } = sink;
     cost.cells += cells + tested.cells;
     cost.tests += tested.tests;
-    if walked.is_none() {
+    if let Walk::GaveUp(_) = walked {
         // The shares found so far cover only part of each lane's way: start again, alone.
         alone(scene, packet, &open, &mut pass, cost);
         return pass;
