@@ -8,7 +8,9 @@
 //! slice where it is hit (rectangles are widened by a margin that covers the rounding of the
 //! lanes' coordinates), and a lane stops only once its nearest hit lies before the far wall of
 //! the slice just searched, as a single ray stops at the end of its cell: the objects a lane is
-//! tested against include every one its single-ray walk would have found nearest.
+//! tested against include every one its single-ray walk would have found nearest. A packet
+//! too spread out to walk together gives up ([`Walk::GaveUp`]) and names the lanes whose walk
+//! is not over: the caller finishes those alone, from what the packet found.
 //!
 //! Each slice also hands the sink its *footprint*: the box of the walking lanes' points in the
 //! slice, widened by the same margin plus the rounding of the kernels' differences from the

@@ -188,8 +188,9 @@ pub fn triangle_range_hits<const N: usize, L: TriangleLayout>(
 }
 
 /// Marks the `live` lanes that mesh `mesh` blocks anywhere in `(t_min, t_max)` (in object
-/// space) in `occluded`: the packet walks the mesh grid together, each lane dropping out at its
-/// first hit; lanes that cannot walk together walk alone ([`super::mesh::occluded`]).
+/// space) in `occluded`: the packet walks the mesh grid together, each lane dropping out after
+/// the slice of its first hit; where the packet gives up, the lanes it has not found blocked
+/// and had not finished take the single-ray any-hit walk ([`super::mesh::occluded`]).
 #[inline(always)]
 pub fn mesh_occluded<const N: usize, L: TriangleLayout>(
     mesh: &MeshEntry<L>,
