@@ -48,7 +48,8 @@ def ensure_embreex(allow, argv):
     into .venv and re-executes `argv` under that venv's Python (never returns then)."""
     if python_has_embreex():
         return
-    if os.path.realpath(sys.executable) == os.path.realpath(VENV_PYTHON):
+    # A venv's python is a link to the system interpreter, so compare prefixes, not executables.
+    if os.path.realpath(sys.prefix) == os.path.realpath(VENV):
         raise SystemExit("compare: embreex does not import even in %s" % VENV)
     if not allow:
         raise SystemExit("compare: embreex is not importable (pip install embreex, or drop --no-install)")
