@@ -361,7 +361,7 @@ mod tests {
     use crate::accel::GridBuilder;
     use crate::math::Ray;
 
-    /// Records which lanes reach a visit, and ends lanes 0 and 1 at `t = 1` on their first.
+    /// Ends lanes 0 and 1 at `t = 1` (a hit) the first time a visit reaches them.
     struct EndTwo {
         bound: [f32; 16],
     }

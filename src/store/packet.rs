@@ -51,11 +51,9 @@ pub fn mesh_hits<const N: usize, L: TriangleLayout>(
     let Walk::GaveUp(unfinished) = mesh_walk(mesh, packet, live, bound, cost, &mut record) else { return };
     for i in 0..N {
         if unfinished[i] {
-            let mut lane = TraversalCost::default();
-            let found = super::mesh::intersect(mesh, &packet.ray(i), packet.t_min[i], bound[i], &mut lane);
-            cost.cells += lane.cells;
-            cost.tests += lane.tests;
-            if let Some((k, h)) = found {
+            if let Some((k, h)) =
+                super::mesh::intersect(mesh, &packet.ray(i), packet.t_min[i], bound[i], cost)
+            {
                 bound[i] = h.t;
                 record(i, k, h);
             }
