@@ -106,21 +106,22 @@ impl Aabb {
     /// imposes no limit when the origin lies within that slab, walls included, and misses otherwise.
     #[inline]
     pub fn clip_ray(&self, ray: &Ray, inv_dir: Vec3, t_min: f32, t_max: f32) -> Option<(f32, f32)> {
+        // Plain arrays, not `Vec3` indexing: the loop unrolls into straight-line code.
+        let (o, d, inv) = (ray.origin.to_array(), ray.dir.to_array(), inv_dir.to_array());
+        let (lo, hi) = (self.min.to_array(), self.max.to_array());
         let (mut t0, mut t1) = (t_min, t_max);
+        let mut outside = false;
         for axis in 0..3 {
-            let o = ray.origin[axis];
-            if ray.dir[axis] == 0.0 {
-                if o < self.min[axis] || o > self.max[axis] {
-                    return None;
-                }
+            if d[axis] == 0.0 {
+                outside |= o[axis] < lo[axis] || o[axis] > hi[axis];
                 continue;
             }
-            let a = (self.min[axis] - o) * inv_dir[axis];
-            let b = (self.max[axis] - o) * inv_dir[axis];
+            let a = (lo[axis] - o[axis]) * inv[axis];
+            let b = (hi[axis] - o[axis]) * inv[axis];
             t0 = t0.max(a.min(b));
             t1 = t1.min(a.max(b));
         }
-        (t0 <= t1).then_some((t0, t1))
+        (!outside && t0 <= t1).then_some((t0, t1))
     }
 
     /// [`Self::clip_ray`] of the `live` lanes of `packet`, each clipped to `[t_min, t_max]`

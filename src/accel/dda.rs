@@ -78,8 +78,9 @@ impl<'g> GridWalk<'g> {
             return walk;
         };
         let entry = grid.cell_coords(ray.at(t0));
+        let (origin, dir, inv_dir) = (walk.origin, walk.dir, walk.inv_dir);
         for axis in 0..3 {
-            let d = ray.dir[axis];
+            let d = dir[axis];
             let c = entry[axis];
             walk.cell[axis] = c as i32;
             walk.index += c as i32 * walk.stride[axis];
@@ -87,11 +88,11 @@ impl<'g> GridWalk<'g> {
             if d > 0.0 {
                 walk.step[axis] = 1;
                 walk.out[axis] = grid.dims[axis] as i32;
-                walk.t_next[axis] = (grid.plane(axis, c + 1) - ray.origin[axis]) * inv_dir[axis];
+                walk.t_next[axis] = (grid.plane(axis, c + 1) - origin[axis]) * inv_dir[axis];
             } else if d < 0.0 {
                 walk.step[axis] = -1;
                 walk.out[axis] = -1;
-                walk.t_next[axis] = (grid.plane(axis, c) - ray.origin[axis]) * inv_dir[axis];
+                walk.t_next[axis] = (grid.plane(axis, c) - origin[axis]) * inv_dir[axis];
             }
         }
         walk.t_enter = t0;

@@ -157,7 +157,8 @@ impl UniformGrid {
     /// `(p - min) / size`.
     #[inline]
     pub fn cell_coords(&self, p: Vec3) -> [u32; 3] {
-        let rel = (p - self.bounds.min) * self.inv_cell_size;
+        let rel = ((p - self.bounds.min) * self.inv_cell_size).to_array();
+        let p = p.to_array();
         let mut out = [0u32; 3];
         for axis in 0..3 {
             let d = self.dims[axis];

@@ -208,7 +208,6 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
     origins: Origins,
     cost: &mut TraversalCost,
 ) -> [Vec3; N] {
-    use super::visibility::ordered_product;
     /// One object met by the walk: each lane's share, and which lanes have one.
     struct Met<const N: usize> {
         id: u32,
@@ -295,8 +294,8 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
         alone(scene, packet, &open, &mut pass, cost);
         return pass;
     }
+    // `ordered_product` of each lane's shares, folded straight from the objects in id order.
     met.sort_unstable_by_key(|m| m.id);
-    let mut shares = Vec::with_capacity(met.len());
     for i in 0..N {
         if !open[i] {
             continue;
@@ -305,9 +304,7 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
             pass[i] = Vec3::ZERO;
             continue;
         }
-        shares.clear();
-        shares.extend(met.iter().filter(|m| m.done[i]).map(|m| (m.id, m.share[i])));
-        pass[i] = ordered_product(pass[i], &shares);
+        pass[i] = met.iter().filter(|m| m.done[i]).fold(pass[i], |pass, m| pass * m.share[i]);
     }
     pass
 }

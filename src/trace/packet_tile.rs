@@ -196,10 +196,9 @@ pub(super) fn point_light_shadows<S: PrimitiveStore>(
             #[inline(always)]
             || shadow_passes(scene, &shadow, Origins::Apart, &mut cost),
         );
-        let each = cost.per_ray(lanes);
+        rays.traversal.record_many(cost.per_ray(lanes), u64::from(lanes));
         for lane in 0..LANES {
             if shadow.active[lane] {
-                rays.traversal.record(each);
                 let hint = hints[lane].get_or_insert([None; HINTED_LIGHTS]);
                 hint[j] = Some(pass[lane]);
             }

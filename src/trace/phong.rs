@@ -229,9 +229,8 @@ fn add_lit<S: PrimitiveStore>(
             shadow_passes(scene, packet, Origins::Shared, &mut cost)
         },
     );
-    let each = cost.per_ray(lit.len() as u32);
+    ctx.rays.traversal.record_many(cost.per_ray(lit.len() as u32), lit.len() as u64);
     for (lane, &(to_light, radiance, n_dot_l)) in lit.iter().enumerate() {
-        ctx.rays.traversal.record(each);
         if pass[lane] != Vec3::ZERO {
             *colour += radiance * (pass[lane] * share) * phong(m, s.normal, view, to_light, n_dot_l);
         }

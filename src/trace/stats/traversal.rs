@@ -43,7 +43,13 @@ impl CostHistogram {
     /// Counts one value.
     #[inline]
     pub fn record(&mut self, v: u32) {
-        self.buckets[Self::bucket(v)] += 1;
+        self.record_many(v, 1);
+    }
+
+    /// Counts the value `v` `n` times.
+    #[inline]
+    pub fn record_many(&mut self, v: u32, n: u64) {
+        self.buckets[Self::bucket(v)] += n;
     }
 
     /// Adds another histogram.
@@ -95,11 +101,18 @@ impl TraversalTally {
     /// Counts one ray's cost.
     #[inline]
     pub fn record(&mut self, cost: crate::store::TraversalCost) {
-        self.rays += 1;
-        self.cells += u64::from(cost.cells);
-        self.tests += u64::from(cost.tests);
-        self.cells_per_ray.record(cost.cells);
-        self.tests_per_ray.record(cost.tests);
+        self.record_many(cost, 1);
+    }
+
+    /// Counts `rays` rays that each cost `cost` (the lanes of a packet, its cost shared out):
+    /// the same tally as that many [`Self::record`] calls.
+    #[inline]
+    pub fn record_many(&mut self, cost: crate::store::TraversalCost, rays: u64) {
+        self.rays += rays;
+        self.cells += u64::from(cost.cells) * rays;
+        self.tests += u64::from(cost.tests) * rays;
+        self.cells_per_ray.record_many(cost.cells, rays);
+        self.tests_per_ray.record_many(cost.tests, rays);
     }
 
     /// Adds another tally.
