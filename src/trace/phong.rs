@@ -175,16 +175,41 @@ fn area_light_packets<S: PrimitiveStore>(
     let mut traced = false;
     while samples.taken() > 0 {
         let mut st = [Vec2::ZERO; LANES];
-        let (count, towards) = level.run(
+        let (count, towards, n_dot_l) = level.run(
             #[inline(always)]
             || {
                 let count = samples.fill(&mut st);
-                (count, light.sample_lanes(s.point, &st))
+                let towards = light.sample_lanes(s.point, &st);
+                // `Vec3::dot` lane by lane, in its order.
+                let n = s.normal;
+                let d = &towards.dir;
+                let n_dot_l: [f32; LANES] =
+                    std::array::from_fn(|i| n.x * d[0][i] + n.y * d[1][i] + n.z * d[2][i]);
+                (count, towards, n_dot_l)
             },
         );
+        // The common case, a whole packet's worth of samples that all light the point, fills the
+        // packet at once: every lane is set here but the reciprocals, which `add_lit` works out.
+        let lights = |i: usize| towards.ok[i] && !(n_dot_l[i] <= 0.0 || towards.dist[i] <= s.eps);
+        if lanes == 0 && count == LANES && (0..LANES).all(lights) {
+            for axis in 0..3 {
+                packet.origin[axis] = [s.above[axis]; LANES];
+                packet.dir[axis] = towards.dir[axis];
+            }
+            packet.t_min = [0.0; LANES];
+            packet.t_max = towards.dist.map(|dist| dist * (1.0 - SHADOW_EPSILON));
+            packet.active = [true; LANES];
+            for (lane, &st) in st.iter().enumerate() {
+                let (to_light, _, radiance) = towards.sample(lane, light, s.point, st);
+                lit[lane] = (to_light, radiance, n_dot_l[lane]);
+            }
+            add_lit(scene, &mut packet, &lit, (m, s, view, share), level, ctx, &mut colour);
+            traced = true;
+            continue;
+        }
         for (lane, &st) in st.iter().enumerate().take(count) {
             let (to_light, dist, radiance) = towards.sample(lane, light, s.point, st);
-            let n_dot_l = s.normal.dot(to_light);
+            let n_dot_l = if towards.ok[lane] { n_dot_l[lane] } else { s.normal.dot(to_light) };
             if n_dot_l <= 0.0 || dist <= s.eps {
                 continue;
             }
