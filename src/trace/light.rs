@@ -354,6 +354,19 @@ impl<const N: usize> LightLanes<N> {
             _ => light.sample(p, st),
         }
     }
+
+    /// The radiance arriving in every lane from an area light `light` (zero for other lights):
+    /// in the lanes that are `ok`, [`Self::sample`]'s third part.
+    #[inline]
+    pub fn radiances(&self, light: &Light) -> [Vec3; N] {
+        match *light {
+            Light::Rect { radiance, falloff, .. } | Light::Disk { radiance, falloff, .. } => {
+                let radiance = clamp_radiance(radiance);
+                self.dist.map(|dist| falloff.apply(radiance, dist))
+            }
+            _ => [Vec3::ZERO; N],
+        }
+    }
 }
 
 /// Below this distance to a light, `to / |to|` loses precision: [`unit_and_length`] takes over.

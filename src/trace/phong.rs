@@ -199,9 +199,10 @@ fn area_light_packets<S: PrimitiveStore>(
             packet.t_min = [0.0; LANES];
             packet.t_max = towards.dist.map(|dist| dist * (1.0 - SHADOW_EPSILON));
             packet.active = [true; LANES];
-            for (lane, &st) in st.iter().enumerate() {
-                let (to_light, _, radiance) = towards.sample(lane, light, s.point, st);
-                lit[lane] = (to_light, radiance, n_dot_l[lane]);
+            let radiances = towards.radiances(light);
+            for (lane, lit) in lit.iter_mut().enumerate() {
+                let to_light = Vec3::new(towards.dir[0][lane], towards.dir[1][lane], towards.dir[2][lane]);
+                *lit = (to_light, radiances[lane], n_dot_l[lane]);
             }
             add_lit(scene, &mut packet, &lit, (m, s, view, share), level, ctx, &mut colour);
             traced = true;
