@@ -66,8 +66,16 @@ fn check_light(light: &Light, p: Vec3, st: &[Vec2; N]) {
             #[inline(always)]
             || light.sample_lanes(p, st),
         );
+        let radiances = lanes.radiances(light);
         for (lane, &st) in st.iter().enumerate() {
             let (dir, dist, radiance) = lanes.sample(lane, light, p, st);
+            if lanes.ok[lane] {
+                // The whole-packet path takes the radiance from here.
+                assert_eq!(
+                    radiances[lane].to_array().map(f32::to_bits),
+                    radiance.to_array().map(f32::to_bits)
+                );
+            }
             let (wd, wl, wr) = want[lane];
             assert_eq!(
                 (dir.to_array().map(f32::to_bits), dist.to_bits(), radiance.to_array().map(f32::to_bits)),

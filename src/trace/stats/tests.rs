@@ -50,3 +50,19 @@ fn no_trace_time_is_zero_throughput_not_nan() {
     let json = serde_json::to_value(RenderStats::default()).unwrap();
     assert_eq!(json["mrays_per_s"].as_f64(), Some(0.0));
 }
+
+#[test]
+fn a_packets_tally_recorded_at_once_equals_its_lanes_recorded_one_by_one() {
+    use crate::store::TraversalCost;
+    let costs = [(0, 0), (3, 7), (31, 32), (33, 1000), (70_000, 5)];
+    let (mut one_by_one, mut at_once) = (TraversalTally::default(), TraversalTally::default());
+    for (k, &(cells, tests)) in costs.iter().enumerate() {
+        let cost = TraversalCost { cells, tests };
+        let lanes = k as u64 * 5 + 1;
+        (0..lanes).for_each(|_| one_by_one.record(cost));
+        at_once.record_many(cost, lanes);
+    }
+    assert_eq!(at_once, one_by_one);
+    assert_eq!(at_once.rays, 1 + 6 + 11 + 16 + 21);
+    assert_eq!(at_once.summary(), one_by_one.summary());
+}
