@@ -241,14 +241,19 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
         }
     }
     let axes = [k, (k + 1) % 3, (k + 2) % 3];
-    let mut reach = 0.0f32;
-    for i in 0..N {
+    // The largest origin coordinate of the lanes inside, lane by lane and then by halving (a
+    // running maximum over the lanes was one long dependent chain, kept in memory): the same
+    // value, a maximum of values that are never NaN not depending on its order.
+    let o = &packet.origin;
+    let far = std::array::from_fn(|i| {
+        let m = max(max(o[0][i].abs(), o[1][i].abs()), o[2][i].abs());
         if inside[i] {
-            for a in 0..3 {
-                reach = max(reach, packet.origin[a][i].abs());
-            }
+            m
+        } else {
+            0.0
         }
-    }
+    });
+    let (_, reach) = extent([0.0; N], far);
     let frame = Frame {
         grid,
         axes,
