@@ -166,7 +166,10 @@ impl Light {
     /// Unit direction from `p` towards a point light or directional light, the distance to it
     /// (∞ for directional) and the radiance arriving. For area lights, the direction to the
     /// centre and the whole radiance (used only where one representative sample is wanted).
-    #[inline]
+    // Always inlined: returned through memory, the tuple's (x, y) and z were written by two
+    // stores and read back by a load spanning both, which cannot be forwarded (a stall per call
+    // on the packet path's shadow rays).
+    #[inline(always)]
     pub fn towards(&self, p: Vec3) -> (Vec3, f32, Vec3) {
         match *self {
             Light::Point { position, radiance, falloff } => towards_point(p, position, radiance, falloff),
