@@ -106,11 +106,12 @@ impl Lit {
         time: f32,
     ) -> Self {
         let ShadingPoint { sp, ns, above, .. } = shading;
-        let (m, ns) = match scene.shade_at(scene.material(sp.material), hit, sp.point, ns, time) {
-            // A bump may not tilt the normal away from the viewer.
-            (m, bumped) if bumped.dot(ray.dir) < 0.0 => (m, bumped),
-            (m, _) => (m, ns),
-        };
+        let material = scene.material(sp.material);
+        let (m, bumped) = scene.shade_at(material, hit, sp.point, ns, time);
+        // A bump may not tilt the normal away from the viewer. Untextured (`bumped` is `ns`),
+        // `ns` is taken as it is: read back from `shade_at`'s result, its y and z came in one
+        // load across the two stores that wrote them, a stall the CPU cannot forward.
+        let ns = if !material.maps.is_empty() && bumped.dot(ray.dir) < 0.0 { bumped } else { ns };
         Self { shading, m, surface: Surface { point: sp.point, normal: ns, above, eps: sp.error } }
     }
 
