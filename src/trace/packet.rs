@@ -208,6 +208,7 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
     origins: Origins,
     cost: &mut TraversalCost,
 ) -> [Vec3; N] {
+    use super::visibility::ordered_product;
     /// One object met by the walk: each lane's share, and which lanes have one.
     struct Met<const N: usize> {
         id: u32,
@@ -294,7 +295,7 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
         alone(scene, packet, &open, &mut pass, cost);
         return pass;
     }
-    // `ordered_product` of each lane's shares, folded straight from the objects in id order.
+    // Each lane's shares straight from the objects, in id order: no vector per packet.
     met.sort_unstable_by_key(|m| m.id);
     for i in 0..N {
         if !open[i] {
@@ -304,7 +305,7 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
             pass[i] = Vec3::ZERO;
             continue;
         }
-        pass[i] = met.iter().filter(|m| m.done[i]).fold(pass[i], |pass, m| pass * m.share[i]);
+        pass[i] = ordered_product(pass[i], met.iter().filter(|m| m.done[i]).map(|m| (m.id, m.share[i])));
     }
     pass
 }

@@ -180,7 +180,7 @@ fn static_transmittance<S: PrimitiveStore, T: Tally>(
     if blocked {
         Vec3::ZERO
     } else {
-        ordered_product(pass, shares.in_id_order())
+        ordered_product(pass, shares.in_id_order().iter().copied())
     }
 }
 
@@ -270,7 +270,11 @@ pub(crate) fn object_transmittance<S: PrimitiveStore, T: Tally>(
 /// found, so a single ray's walk and a packet's (which meets objects in another order) give the
 /// same bits. `shares` must be in ascending, distinct ids.
 #[inline]
-pub(crate) fn ordered_product(pass: Vec3, shares: &[(u32, Vec3)]) -> Vec3 {
-    debug_assert!(shares.windows(2).all(|w| w[0].0 < w[1].0), "shares must be in ascending id");
-    shares.iter().fold(pass, |pass, &(_, share)| pass * share)
+pub(crate) fn ordered_product(pass: Vec3, shares: impl IntoIterator<Item = (u32, Vec3)>) -> Vec3 {
+    let mut last = None;
+    shares.into_iter().fold(pass, |pass, (id, share)| {
+        debug_assert!(last.is_none_or(|last| last < id), "shares must be in ascending id");
+        last = Some(id);
+        pass * share
+    })
 }
