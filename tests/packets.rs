@@ -390,17 +390,61 @@ fn a_camera_block_shares_one_permutation_and_mixed_signs_do_not() {
 
 /// Every shipped scene, rendered small, with `simd` (the scene's own effects and samples).
 fn render_shipped(path: &std::path::Path, simd: SimdLevel) -> Vec<u32> {
+    render_adjusted(path, 61, simd, |_| {}).0
+}
+
+/// The scene at `path` rendered `width` pixels wide with `simd` and the settings `adjust`
+/// leaves: the film's bits and the ray counts.
+fn render_adjusted(
+    path: &std::path::Path,
+    width: u32,
+    simd: SimdLevel,
+    adjust: impl Fn(&mut penumbra::trace::RenderSettings),
+) -> (Vec<u32>, penumbra::trace::stats::RayCounts) {
     let desc = penumbra::scene::load_scene(path).expect("shipped scene loads");
     let mut world: penumbra::world::SceneWorld = penumbra::scene::spawn_world(&desc);
     let snapshot = world.update();
     let base = world.render_settings();
     // Odd sizes leave partial blocks and tiles; the aspect is kept roughly.
-    let width = 61;
     let height = (width * base.height / base.width.max(1)).max(1) | 1;
-    let settings = penumbra::trace::RenderSettings { width, height, simd, ..base };
+    let mut settings = penumbra::trace::RenderSettings { width, height, simd, ..base };
+    adjust(&mut settings);
     let (film, stats) = penumbra::trace::render(&snapshot, &settings);
     assert_eq!(stats.simd, simd.resolve());
-    film.pixels.iter().flat_map(|c| c.to_array().map(f32::to_bits)).collect()
+    (film.pixels.iter().flat_map(|c| c.to_array().map(f32::to_bits)).collect(), stats.rays)
+}
+
+/// A lens camera's samples go in per-pixel packets (up to 16 at a time) where a pixel takes
+/// at least 4: whole packets, a last partial one, counts below the packet minimum, and lens
+/// samples under several AA positions must all give the single rays' bits and ray counts.
+#[test]
+fn lens_packets_give_the_single_rays_bits_for_any_sample_count() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/effects_dof.ron");
+    for (aa, lens) in [(1, 3), (1, 4), (1, 16), (1, 21), (1, 33), (2, 4), (3, 7)] {
+        let adjust = |s: &mut penumbra::trace::RenderSettings| {
+            s.aa.samples = aa;
+            s.lens.samples = lens;
+        };
+        let (want, want_rays) = render_adjusted(&path, 23, SimdLevel::Scalar, adjust);
+        assert_eq!(
+            want_rays.lens,
+            u64::from(23 * 17 * aa * lens),
+            "AA {aa}, lens {lens}: every sample is a lens ray"
+        );
+        for level in [SimdLevel::Baseline, SimdLevel::Avx2, SimdLevel::Avx512] {
+            if level.available() {
+                let (got, rays) = render_adjusted(&path, 23, level, adjust);
+                let differ = want.iter().zip(&got).filter(|(a, b)| a != b).count();
+                assert!(
+                    differ == 0,
+                    "AA {aa}, lens {lens}: {differ} channels differ between scalar and {level}"
+                );
+                assert_eq!(rays.lens, want_rays.lens);
+                assert_eq!(rays.area_shadow, want_rays.area_shadow, "AA {aa}, lens {lens}");
+                assert_eq!(rays.reflection + rays.refraction, want_rays.reflection + want_rays.refraction);
+            }
+        }
+    }
 }
 
 #[test]

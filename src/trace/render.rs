@@ -20,7 +20,7 @@ use std::time::Instant;
 use super::aov::first_hit_aovs;
 use super::camera_samples::{fixed_pixel, CameraSampler};
 use super::corners::render_adaptive;
-use super::packet_tile::{camera_packets, packet_tile};
+use super::packet_tile::{camera_packets, lens_packets, lens_tile, packet_tile};
 use super::scene::TraceScene;
 use super::settings::RenderSettings;
 use super::stats::{
@@ -73,24 +73,25 @@ pub fn render_observed<S: PrimitiveStore>(
             noise_stats = stats;
             (image, AdaptiveCounts::default())
         }
-        (None, None) if camera_packets(scene, settings, wanted.cost).is_some() => {
-            let level = settings.simd.resolve();
-            let sampler = CameraSampler::new(scene, settings);
-            let tile = |area: [u32; 4], rays: &mut RayCounts, out: &mut TileOut| {
-                packet_tile(&sampler, level, area, rays, out)
-            };
-            (render_tiles(settings, false, tile, &tile_done), AdaptiveCounts::default())
-        }
         (None, None) => {
-            let want_cost = wanted.cost;
             let sampler = CameraSampler::new(scene, settings);
-            let tile = |[x0, y0, x1, y1]: [u32; 4], rays: &mut RayCounts, out: &mut TileOut| {
-                for y in y0..y1 {
-                    for x in x0..x1 {
-                        let before = rays.total();
-                        out.pixels.push(fixed_pixel(&sampler, x, y, rays));
-                        if want_cost {
-                            out.costs.push(saturate(rays.total() - before));
+            // Packets of pixel blocks for a pinhole, of each pixel's samples for a lens; single
+            // rays where neither applies (and for the cost AOV, which needs rays per pixel).
+            let packets = camera_packets(scene, settings, wanted.cost);
+            let lens = lens_packets(scene, settings, sampler.n, wanted.cost);
+            let want_cost = wanted.cost;
+            let tile = |area: [u32; 4], rays: &mut RayCounts, out: &mut TileOut| match (packets, lens) {
+                (Some(level), _) => packet_tile(&sampler, level, area, rays, out),
+                (None, Some(level)) => lens_tile(&sampler, level, area, rays, out),
+                (None, None) => {
+                    let [x0, y0, x1, y1] = area;
+                    for y in y0..y1 {
+                        for x in x0..x1 {
+                            let before = rays.total();
+                            out.pixels.push(fixed_pixel(&sampler, x, y, rays));
+                            if want_cost {
+                                out.costs.push(saturate(rays.total() - before));
+                            }
                         }
                     }
                 }
