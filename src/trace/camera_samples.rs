@@ -8,10 +8,10 @@ use super::scene::TraceScene;
 use super::settings::{AntiAliasing, RenderSettings};
 use super::stats::RayCounts;
 
-use crate::math::{Ray, Vec2, Vec3};
+use crate::math::{Ray, RayPacket, Vec2, Vec3};
 use crate::sample::dims;
-use crate::sample::pattern::{disk_point_in, square_point_in, strata};
-use crate::sample::rng::{permute, uniform2, Dimension, SampleKey};
+use crate::sample::pattern::{disk_point_in, square_point_in, square_points_in, strata};
+use crate::sample::rng::{permute, uniform2, Dimension, Permutation, SampleKey};
 use crate::sample::sobol::Progressive;
 use crate::sample::warp::{concentric_disk, tent};
 use crate::sample::{Filter, Pattern};
@@ -159,6 +159,61 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
         let key = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample };
         let camera = CameraSample { key, pixel: patterns, slot: sample, spp: self.n, progressive: None };
         (Vec2::new(x as f32 + offset.x, y as f32 + offset.y), camera)
+    }
+
+    /// Camera samples `first..first + count` of pixel `(x, y)` of a lens camera that does not
+    /// move, `count` at most `N`: the rays in lanes `0..count` of a packet (their reciprocals
+    /// not yet worked out) and their samples, each as [`Self::sample`] gives it, counted as lens
+    /// rays. Where each sample takes its own pixel position (`spread`), the positions' and lens
+    /// points' strata, hashes and jitters are found lane by lane, the per-pixel parts once
+    /// ([`Permutation::at_lanes`], [`Dimension::uniform2_lanes`], [`square_points_in`]: the
+    /// same bits); only the disk warp and the ray itself are taken lane after lane. Inline it
+    /// into a [`crate::simd::SimdLevel::run`] closure to get the level's vectors.
+    #[inline(always)]
+    pub(super) fn lens_lanes<const N: usize>(
+        &self,
+        x: u32,
+        y: u32,
+        first: u32,
+        count: usize,
+        rays: &mut RayCounts,
+    ) -> (RayPacket<N>, [Option<CameraSample>; N]) {
+        debug_assert!(self.scene.motion.is_none() && self.scene.camera.has_lens() && count <= N);
+        let mut packet = RayPacket::<N>::default();
+        let mut cameras = [None; N];
+        if !self.spread {
+            for (lane, sample) in (first..first + count as u32).enumerate() {
+                let (ray, camera, _) = self.sample(x, y, sample, rays);
+                packet.put(lane, &ray, 0.0, f32::INFINITY);
+                cameras[lane] = Some(camera);
+            }
+            return (packet, cameras);
+        }
+        let settings = self.settings;
+        let pixel = y * settings.width + x;
+        let patterns = self.pixel_key(pixel);
+        // Lanes past `count` take sample `first` (a valid index) and are left out below.
+        let samples: [u32; N] = std::array::from_fn(|k| if k < count { first + k as u32 } else { first });
+        let points = |dim: u32, pattern: Pattern| {
+            let points = Dimension::new(&patterns, dim);
+            let k = Permutation::new(self.n, points.hash(dims::PERMUTATION_SEED)).at_lanes(&samples);
+            let (ux, uy) = points.uniform2_lanes(&k);
+            square_points_in(pattern, self.lens_strata, &k, &ux, &uy)
+        };
+        let offsets = points(dims::PIXEL, settings.aa.pattern);
+        let lens = points(dims::LENS, settings.lens.pattern);
+        let camera = &self.scene.camera;
+        for lane in 0..count {
+            let offset = filtered(&settings.aa, offsets[lane]);
+            let (px, py) = (x as f32 + offset.x, y as f32 + offset.y);
+            let ray = camera.lens_ray(px, py, settings.width, settings.height, concentric_disk(lens[lane]));
+            packet.put(lane, &ray, 0.0, f32::INFINITY);
+            let key = SampleKey { seed: settings.seed, frame: settings.frame, pixel, sample: samples[lane] };
+            cameras[lane] =
+                Some(CameraSample { key, pixel: patterns, slot: samples[lane], spp: self.n, progressive: None });
+        }
+        rays.lens += count as u64;
+        (packet, cameras)
     }
 
     /// Camera sample `sample` of batch `batch` of the pixel, for noise-driven sampling. The

@@ -94,17 +94,15 @@ pub(super) fn lens_tile<S: PrimitiveStore>(
         for x in x0..x1 {
             let mut mean = SampleMean::default();
             for first in (0..n).step_by(LANES) {
-                let mut packet = RayPacket::<LANES>::default();
-                let mut cameras = [None; LANES];
-                for (lane, sample) in (first..n.min(first + LANES as u32)).enumerate() {
-                    // Lens cameras that do not move ([`lens_packets`]): every time is 0.
-                    let (ray, camera, _) = sampler.sample(x, y, sample, rays);
-                    packet.put(lane, &ray, 0.0, f32::INFINITY);
-                    cameras[lane] = Some(camera);
-                }
-                level.run(
+                let count = (n - first).min(LANES as u32) as usize;
+                // Lens cameras that do not move ([`lens_packets`]): every time is 0.
+                let (packet, cameras) = level.run(
                     #[inline(always)]
-                    || packet.reciprocals(),
+                    || {
+                        let (mut packet, cameras) = sampler.lens_lanes(x, y, first, count, rays);
+                        packet.reciprocals();
+                        (packet, cameras)
+                    },
                 );
                 for colour in shade_packet(sampler, level, &packet, &cameras, rays).into_iter().flatten() {
                     mean.add(colour);
