@@ -415,32 +415,41 @@ fn render_adjusted(
 }
 
 /// A lens camera's samples go in per-pixel packets (up to 16 at a time) where a pixel takes
-/// at least 4: whole packets, a last partial one, counts below the packet minimum, and lens
-/// samples under several AA positions must all give the single rays' bits and ray counts.
+/// at least 4, and in per-point packets where an adaptive render's lattice point does: whole
+/// packets, a last partial one, counts below the packet minimum, lens samples under several AA
+/// positions, and adaptive renders (corners with all of a pixel's lens samples, deeper points
+/// with their share) must all give the single rays' bits and ray counts.
 #[test]
 fn lens_packets_give_the_single_rays_bits_for_any_sample_count() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/effects_dof.ron");
-    for (aa, lens) in [(1, 3), (1, 4), (1, 16), (1, 21), (1, 33), (2, 4), (3, 7)] {
+    let adaptive = Some(penumbra::sample::adaptive::AdaptiveSettings { threshold: 0.02, max_depth: 2 });
+    let fixed =
+        [(1, 3), (1, 4), (1, 16), (1, 21), (1, 33), (2, 4), (3, 7)].map(|(aa, lens)| (aa, lens, None));
+    let refined = [(1, 16, adaptive), (1, 37, adaptive), (1, 5, adaptive)];
+    for (aa, lens, adaptive) in fixed.into_iter().chain(refined) {
         let adjust = |s: &mut penumbra::trace::RenderSettings| {
             s.aa.samples = aa;
             s.lens.samples = lens;
+            s.adaptive = adaptive;
         };
+        let case = format!("AA {aa}, lens {lens}, adaptive {}", adaptive.is_some());
         let (want, want_rays) = render_adjusted(&path, 23, SimdLevel::Scalar, adjust);
-        assert_eq!(
-            want_rays.lens,
-            u64::from(23 * 17 * aa * lens),
-            "AA {aa}, lens {lens}: every sample is a lens ray"
-        );
+        match adaptive {
+            None => assert_eq!(
+                want_rays.lens,
+                u64::from(23 * 17 * aa * lens),
+                "{case}: every sample is a lens ray"
+            ),
+            // 24 × 18 corners take all the lens samples; deeper points take their share.
+            Some(_) => assert!(want_rays.lens > u64::from(24 * 18 * lens), "{case}: {}", want_rays.lens),
+        }
         for level in [SimdLevel::Baseline, SimdLevel::Avx2, SimdLevel::Avx512] {
             if level.available() {
                 let (got, rays) = render_adjusted(&path, 23, level, adjust);
                 let differ = want.iter().zip(&got).filter(|(a, b)| a != b).count();
-                assert!(
-                    differ == 0,
-                    "AA {aa}, lens {lens}: {differ} channels differ between scalar and {level}"
-                );
-                assert_eq!(rays.lens, want_rays.lens);
-                assert_eq!(rays.area_shadow, want_rays.area_shadow, "AA {aa}, lens {lens}");
+                assert!(differ == 0, "{case}: {differ} channels differ between scalar and {level}");
+                assert_eq!(rays.lens, want_rays.lens, "{case}");
+                assert_eq!(rays.area_shadow, want_rays.area_shadow, "{case}");
                 assert_eq!(rays.reflection + rays.refraction, want_rays.reflection + want_rays.refraction);
             }
         }

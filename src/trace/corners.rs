@@ -7,17 +7,20 @@ use rayon::prelude::*;
 
 use super::camera_samples::{stratum_time, trace_camera_ray};
 use super::finite::{DropTally, SampleMean};
+use super::packet::{LANES, MIN_LANES};
+use super::packet_tile::{lens_packets, shade_packet};
 use super::path::CameraSample;
 use super::scene::TraceScene;
 use super::settings::RenderSettings;
 use super::stats::{AdaptiveCounts, RayCounts};
 use super::tiles::{assemble, saturate, Assembled, TileResult, TILE};
-use crate::math::Vec3;
+use crate::math::{RayPacket, Vec3};
 use crate::sample::adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint, PointSample};
 use crate::sample::dims;
 use crate::sample::pattern::{disk_point, disk_point_in, strata};
 use crate::sample::rng::{permute, Dimension, SampleKey};
 use crate::sample::Pattern;
+use crate::simd::SimdLevel;
 use crate::store::PrimitiveStore;
 use glam::DVec3;
 
@@ -34,8 +37,11 @@ pub(super) fn render_adaptive<S: PrimitiveStore>(
 ) -> (Assembled, AdaptiveCounts) {
     let (w, h) = (settings.width, settings.height);
     let res = adaptive.resolution();
+    let packets = lens_packets(scene, settings, want_cost);
     let point = |p: LatticePoint, rays: &mut RayCounts| {
-        crate::simd::with_single_ray_level(settings.simd, || lattice_sample(scene, settings, res, p, rays))
+        crate::simd::with_single_ray_level(settings.simd, || {
+            lattice_sample(scene, settings, res, p, packets, rays)
+        })
     };
 
     // Pass 1: the corner lattice, rows in parallel, with each corner's ray count.
@@ -112,11 +118,17 @@ pub(super) fn render_adaptive<S: PrimitiveStore>(
 /// and of the time samples (where something moves), each at least one, stratified over the
 /// point's samples; effect budgets are scaled to the same area. Pixel corners (level 0) take
 /// them all, as a fixed render's pixel does. A pure function of the point's coordinates.
+///
+/// With `packets` (a lens camera that does not move: [`lens_packets`]), a point's samples, which
+/// all pass through its image position and so converge on one point of the plane in focus, go
+/// in packets of up to [`LANES`] where there are at least [`MIN_LANES`] of them, each lane
+/// shaded as its ray alone would be ([`shade_packet`]): the same bits.
 pub(super) fn lattice_sample<S: PrimitiveStore>(
     scene: &TraceScene<S>,
     settings: &RenderSettings,
     res: u32,
     p: LatticePoint,
+    packets: Option<SimdLevel>,
     rays: &mut RayCounts,
 ) -> PointSample {
     let id = u64::from(p.y) * (u64::from(settings.width) * u64::from(res) + 1) + u64::from(p.x);
@@ -142,9 +154,8 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
     let (order, lens_order) =
         (times_dim.hash(dims::PIXEL_PATTERNS - 1), lens_dim.hash(dims::PIXEL_PATTERNS - 1));
     let lens_strata = strata(m);
-    let mut mean = SampleMean::default();
-    let mut spread = Spread::default();
-    for j in 0..m {
+    // Sample `j`'s ray, key and time, counted as a camera or lens ray.
+    let sample = |j: u32, rays: &mut RayCounts| {
         // Sample 0 keeps the point's own key and draws; the others get keys of their own.
         let index = dims::PIXEL_PATTERNS - 2 * j;
         let time = match scene.motion {
@@ -179,9 +190,41 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
         };
         let camera =
             CameraSample { key: own, pixel: key, slot: j, spp: spp.saturating_mul(m), progressive: None };
-        let colour = trace_camera_ray(scene, settings, &ray, camera, time, rays);
-        mean.add(colour);
-        spread.add(colour);
+        (ray, camera, time)
+    };
+    let mut mean = SampleMean::default();
+    let mut spread = Spread::default();
+    match packets.filter(|_| m as usize >= MIN_LANES) {
+        Some(level) => {
+            for first in (0..m).step_by(LANES) {
+                let mut packet = RayPacket::<LANES>::default();
+                let mut cameras = [None; LANES];
+                for (lane, j) in (first..m.min(first + LANES as u32)).enumerate() {
+                    // Nothing moves where there are packets: every time is 0.
+                    let (ray, camera, _) = sample(j, rays);
+                    packet.put(lane, &ray, 0.0, f32::INFINITY);
+                    cameras[lane] = Some(camera);
+                }
+                level.run(
+                    #[inline(always)]
+                    || packet.reciprocals(),
+                );
+                for colour in
+                    shade_packet((scene, settings), level, &packet, &cameras, rays).into_iter().flatten()
+                {
+                    mean.add(colour);
+                    spread.add(colour);
+                }
+            }
+        }
+        None => {
+            for j in 0..m {
+                let (ray, camera, time) = sample(j, rays);
+                let colour = trace_camera_ray(scene, settings, &ray, camera, time, rays);
+                mean.add(colour);
+                spread.add(colour);
+            }
+        }
     }
     // A point none of whose samples is finite is non-finite, so refinement drops and counts it.
     let colour = match mean.dropped() == m {

@@ -58,7 +58,7 @@ pub(super) fn packet_tile<S: PrimitiveStore>(
                     #[inline(always)]
                     || camera.pinhole_lanes(&points, &active, width, height),
                 );
-                let colours = shade_packet(sampler, level, &packet, &cameras, rays);
+                let colours = shade_packet((sampler.scene, sampler.settings), level, &packet, &cameras, rays);
                 for (mean, colour) in means.iter_mut().zip(colours) {
                     if let Some(colour) = colour {
                         mean.add(colour);
@@ -104,7 +104,10 @@ pub(super) fn lens_tile<S: PrimitiveStore>(
                         (packet, cameras)
                     },
                 );
-                for colour in shade_packet(sampler, level, &packet, &cameras, rays).into_iter().flatten() {
+                for colour in shade_packet((sampler.scene, sampler.settings), level, &packet, &cameras, rays)
+                    .into_iter()
+                    .flatten()
+                {
                     mean.add(colour);
                 }
             }
@@ -113,17 +116,16 @@ pub(super) fn lens_tile<S: PrimitiveStore>(
     }
 }
 
-/// The level a lens camera's samples are traced in per-pixel packets at ([`lens_tile`]),
-/// where they are: `None` for single rays. As [`camera_packets`], but for a lens camera that
-/// does not move and takes at least [`MIN_LANES`] camera samples per pixel.
+/// The level a lens camera's samples are traced in packets at, where they are: `None` for
+/// single rays. As [`camera_packets`], but for a lens camera that does not move. The samples
+/// of one pixel ([`lens_tile`]) or one adaptive lattice point go together where there are at
+/// least [`MIN_LANES`] of them.
 pub(super) fn lens_packets<S: PrimitiveStore>(
     scene: &TraceScene<S>,
     settings: &RenderSettings,
-    samples: u32,
     want_cost: bool,
 ) -> Option<SimdLevel> {
-    let wide = samples as usize >= MIN_LANES;
-    (settings.simd.packets() && !want_cost && scene.camera.has_lens() && scene.motion.is_none() && wide)
+    (settings.simd.packets() && !want_cost && scene.camera.has_lens() && scene.motion.is_none())
         .then(|| settings.simd.resolve())
 }
 
@@ -153,13 +155,12 @@ pub(super) fn camera_packets<S: PrimitiveStore>(
 /// the packet's shadow rays, plus ambient and emission ([`Lit::local`]).
 #[inline]
 pub(super) fn shade_packet<S: PrimitiveStore>(
-    sampler: &CameraSampler<'_, S>,
+    (scene, settings): (&TraceScene<S>, &RenderSettings),
     level: SimdLevel,
     packet: &RayPacket<LANES>,
     cameras: &[Option<CameraSample>; LANES],
     rays: &mut RayCounts,
 ) -> [Option<Vec3>; LANES] {
-    let (scene, settings) = (sampler.scene, sampler.settings);
     let mut cost = TraversalCost::default();
     let hits = level.run(
         #[inline(always)]

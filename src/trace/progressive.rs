@@ -283,7 +283,7 @@ fn trace_round_packets<S: PrimitiveStore>(
                         break;
                     }
                 }
-                let colours = shade_packet(sampler, level, &packet, &cameras, rays);
+                let colours = shade_packet((sampler.scene, sampler.settings), level, &packet, &cameras, rays);
                 for (lane, colour) in colours.into_iter().enumerate() {
                     let (Some(c), Some(camera)) = (colour, cameras[lane]) else { continue };
                     let p = &mut pixels[owners[lane]];
