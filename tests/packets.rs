@@ -418,30 +418,49 @@ fn render_adjusted(
 /// at least 4, and in per-point packets where an adaptive render's lattice point does: whole
 /// packets, a last partial one, counts below the packet minimum, lens samples under several AA
 /// positions, and adaptive renders (corners with all of a pixel's lens samples, deeper points
-/// with their share) must all give the single rays' bits and ray counts.
+/// with their share) and noise-driven renders (a pixel's pending samples together) must all
+/// give the single rays' bits and ray counts.
 #[test]
 fn lens_packets_give_the_single_rays_bits_for_any_sample_count() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/effects_dof.ron");
-    let adaptive = Some(penumbra::sample::adaptive::AdaptiveSettings { threshold: 0.02, max_depth: 2 });
+    use penumbra::sample::{adaptive::AdaptiveSettings, noise::NoiseSettings};
+    let adaptive = Some(AdaptiveSettings { threshold: 0.02, max_depth: 2 });
+    let noise = Some(NoiseSettings {
+        target_error: 0.02,
+        min_samples: 8,
+        max_samples: 64,
+        time_limit: None,
+        rounds: Some(3),
+    });
     let fixed =
-        [(1, 3), (1, 4), (1, 16), (1, 21), (1, 33), (2, 4), (3, 7)].map(|(aa, lens)| (aa, lens, None));
-    let refined = [(1, 16, adaptive), (1, 37, adaptive), (1, 5, adaptive)];
-    for (aa, lens, adaptive) in fixed.into_iter().chain(refined) {
+        [(1, 3), (1, 4), (1, 16), (1, 21), (1, 33), (2, 4), (3, 7)].map(|(aa, lens)| (aa, lens, None, None));
+    let refined = [(1, 16, adaptive, None), (1, 37, adaptive, None), (1, 5, adaptive, None)];
+    let noisy = [(1, 16, None, noise), (1, 6, None, noise), (2, 3, None, noise)];
+    for (aa, lens, adaptive, noise) in fixed.into_iter().chain(refined).chain(noisy) {
         let adjust = |s: &mut penumbra::trace::RenderSettings| {
             s.aa.samples = aa;
             s.lens.samples = lens;
             s.adaptive = adaptive;
+            s.noise = noise;
         };
-        let case = format!("AA {aa}, lens {lens}, adaptive {}", adaptive.is_some());
+        let case =
+            format!("AA {aa}, lens {lens}, adaptive {}, noise {}", adaptive.is_some(), noise.is_some());
         let (want, want_rays) = render_adjusted(&path, 23, SimdLevel::Scalar, adjust);
-        match adaptive {
-            None => assert_eq!(
-                want_rays.lens,
-                u64::from(23 * 17 * aa * lens),
-                "{case}: every sample is a lens ray"
-            ),
+        match (adaptive, noise) {
+            (None, None) => {
+                assert_eq!(
+                    want_rays.lens,
+                    u64::from(23 * 17 * aa * lens),
+                    "{case}: every sample is a lens ray"
+                )
+            }
             // 24 × 18 corners take all the lens samples; deeper points take their share.
-            Some(_) => assert!(want_rays.lens > u64::from(24 * 18 * lens), "{case}: {}", want_rays.lens),
+            (Some(_), _) => assert!(want_rays.lens > u64::from(24 * 18 * lens), "{case}: {}", want_rays.lens),
+            // At least one batch per pixel, all of them lens rays.
+            (None, Some(_)) => {
+                assert!(want_rays.lens >= u64::from(23 * 17 * aa * lens), "{case}: {}", want_rays.lens);
+                assert_eq!(want_rays.camera, 0, "{case}");
+            }
         }
         for level in [SimdLevel::Baseline, SimdLevel::Avx2, SimdLevel::Avx512] {
             if level.available() {

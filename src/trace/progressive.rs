@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use super::camera_samples::{trace_camera_ray, CameraSampler};
 use super::finite::DropTally;
 use super::packet::LANES;
-use super::packet_tile::{camera_packets, shade_packet, BLOCK};
+use super::packet_tile::{camera_packets, lens_packets, shade_packet, BLOCK};
 use super::stats::{NoiseStats, NoiseStop, RayCounts};
 use super::tiles::{assemble, saturate, Assembled, TileResult, TILE};
 use crate::math::{RayPacket, Vec3};
@@ -77,7 +77,11 @@ pub(super) fn render_noise<S: PrimitiveStore>(
         })
         .collect();
 
-    let packets = camera_packets(scene, settings, want_cost);
+    // Pinhole blocks take one sample of each pixel in turn; a lens camera's packets take each
+    // pixel's samples together.
+    let packets = camera_packets(scene, settings, want_cost)
+        .map(|level| (level, false))
+        .or_else(|| lens_packets(scene, settings, want_cost).map(|level| (level, true)));
     let mut rounds = 0;
     let mut errors = vec![0.0f64; w as usize * h as usize];
     let stopped_by = loop {
@@ -97,7 +101,7 @@ pub(super) fn render_noise<S: PrimitiveStore>(
                         let strip = [x0, top, x1, (top + STRIP).min(y1)];
                         let mut rays = RayCounts::default();
                         let samples = crate::simd::with_single_ray_level(settings.simd, || match packets {
-                            Some(level) => trace_round_packets(&sampler, level, strip, pixels, &mut rays),
+                            Some(how) => trace_round_packets(&sampler, how, strip, pixels, &mut rays),
                             None => trace_round(&sampler, strip, pixels, &mut rays),
                         });
                         (samples, rays)
@@ -236,12 +240,14 @@ fn trace_round<S: PrimitiveStore>(
 
 /// [`trace_round`] with camera rays in packets: each block of [`BLOCK`] pixels of the strip sends its pending
 /// samples as packets of [`LANES`], filled by taking one sample of each pixel in turn, in the
-/// order of each pixel's samples. Every pixel thus adds its samples in the same order as
+/// order of each pixel's samples; for a lens camera (`by_pixel`), all of one pixel's pending
+/// samples before the next pixel's (they converge on the pixel's footprint in the plane in
+/// focus, as [`super::packet_tile::lens_tile`]'s do). Every pixel thus adds its samples in the same order as
 /// [`trace_round`], from the same radiance: the same sums, the same bits. Rays are counted for
 /// the strip only (the cost AOV traces single rays).
 fn trace_round_packets<S: PrimitiveStore>(
     sampler: &CameraSampler<'_, S>,
-    level: SimdLevel,
+    (level, by_pixel): (SimdLevel, bool),
     area: [u32; 4],
     pixels: &mut [PixelState],
     rays: &mut RayCounts,
@@ -269,13 +275,16 @@ fn trace_round_packets<S: PrimitiveStore>(
                 'fill: loop {
                     let mut took = false;
                     for (x, y, k, next, end) in pending.iter_mut() {
-                        if *next < *end {
+                        while *next < *end {
                             let (ray, camera, _) = sampler.sample_in(*x, *y, *next / n, *next % n, rays);
                             packet.set(filled, &ray, 0.0, f32::INFINITY);
                             (cameras[filled], owners[filled]) = (Some(camera), *k);
                             (*next, filled, took) = (*next + 1, filled + 1, true);
                             if filled == LANES {
                                 break 'fill;
+                            }
+                            if !by_pixel {
+                                break;
                             }
                         }
                     }
