@@ -10,7 +10,8 @@
 //! own grid). Tables: per N the build ms and ns per ray with the growth exponent between
 //! neighbouring sizes (`log(t2/t1) / log(N2/N1)`: 0 = constant, 1 = linear); the bunny's grid
 //! against brute force over every triangle (on every 61st pixel); and the λ curve
-//! (`mesh_lambda`: build + trace for λ in 0.5…16) that `MESH_LAMBDA` is chosen on.
+//! (`mesh_lambda`: build + trace for λ in 0.5…16, the trace both as single rays and as the
+//! renderer's packets, and the grid's bytes per triangle) that `MESH_LAMBDA` is chosen on.
 //!
 //! Run: `cargo bench --bench scaling`.
 
@@ -22,10 +23,13 @@ use std::hint::black_box;
 use std::sync::Arc;
 
 use criterion::{BenchmarkId, Criterion, Throughput};
-use harness::rays::{median, ray_set, trace_primary, trace_shadow, RaySet};
+use harness::rays::{
+    median, ray_set, trace_primary, trace_primary_packets, trace_shadow, trace_shadow_packets, RaySet,
+};
 use penumbra::accel::{DEFAULT_LAMBDA, MESH_LAMBDA};
 use penumbra::geom::mesh::{icosphere, MeshData};
 use penumbra::math::Vec3;
+use penumbra::simd::SimdLevel;
 use penumbra::store::{MeshAsset, PrimitiveStore};
 use penumbra::testing::closest_hit_brute;
 use penumbra::trace::{closest_hit, TraceScene};
@@ -73,6 +77,14 @@ fn cases() -> Vec<Case> {
 
 fn trace(case: &Case, scene: &TraceScene) -> usize {
     trace_primary(scene, &case.rays.primary) + trace_shadow(scene, &case.rays.shadow)
+}
+
+/// [`trace`]'s rays as the renderer traces a pinhole frame: camera rays in packets of 4 × 4
+/// pixels, each block's shadow rays as one packet, at the best SIMD level.
+fn trace_packets(case: &Case, scene: &TraceScene) -> usize {
+    let level = SimdLevel::Auto.resolve();
+    trace_primary_packets(scene, &case.rays.primary, W, level)
+        + trace_shadow_packets(scene, &case.rays.shadow, &case.rays.shadow_block, level)
 }
 
 fn groups(c: &mut Criterion, cases: &[Case]) {
@@ -143,22 +155,39 @@ fn tables(cases: &[Case]) {
         );
     }
 
-    println!("\nmesh_lambda: build + trace (ms) per mesh-grid density λ, medians of 3");
-    print!("{:<13}", "mesh");
+    println!(
+        "\nmesh_lambda: build + trace (ms) per mesh-grid density λ, medians of 3; trace as single rays \
+         (the secondary rays' path) and as packets (a pinhole frame's camera and point-light shadow \
+         rays), and the grid's bytes per triangle"
+    );
+    print!("{:<13} {:<7}", "mesh", "trace");
     for l in LAMBDAS {
         print!(" {:>13}", format!("λ={l}"));
     }
     println!();
     for case in cases.iter().filter(|c| c.n >= 20_000) {
-        print!("{:<13}", case.name);
+        let mut rows = [String::new(), String::new(), String::new()];
         for &lambda in LAMBDAS {
             let asset = Arc::new(MeshAsset::new("bench", case.data.clone(), lambda));
-            let build = asset.build_seconds;
+            let (build, bytes) = (asset.build_seconds, asset.grid.memory_bytes() as f64 / case.n as f64);
             let scene: TraceScene = common::mesh_scene(asset, DEFAULT_LAMBDA);
-            let t = median(3, || trace(case, &scene)).as_secs_f64();
-            print!(" {:>13}", format!("{:.0}+{:.0}", build * 1e3, t * 1e3));
+            // Interleaved, so drift on a shared machine hits both paths alike.
+            let (mut single, mut packets) = (Vec::new(), Vec::new());
+            for _ in 0..3 {
+                single.push(median(1, || trace(case, &scene)).as_secs_f64());
+                packets.push(median(1, || trace_packets(case, &scene)).as_secs_f64());
+            }
+            let mid = |mut v: Vec<f64>| {
+                v.sort_by(f64::total_cmp);
+                v[v.len() / 2]
+            };
+            rows[0] += &format!(" {:>13}", format!("{:.0}+{:.0}", build * 1e3, mid(single) * 1e3));
+            rows[1] += &format!(" {:>13}", format!("{:.0}+{:.0}", build * 1e3, mid(packets) * 1e3));
+            rows[2] += &format!(" {:>13.1}", bytes);
         }
-        println!();
+        for (what, row) in ["single", "packets", "B/tri"].iter().zip(rows) {
+            println!("{:<13} {:<7}{row}", case.name, what);
+        }
     }
 }
 
