@@ -308,8 +308,6 @@ pub fn nearest_in_block<const N: usize>(
 /// do (the common case, which needs no per-lane selection of vertex coordinates).
 #[derive(Debug, Clone, Copy)]
 pub struct WatertightPacket<const N: usize> {
-    /// Each lane's own prepared ray (the scalar kernel's input, for edge cases).
-    rays: [Option<WatertightRay>; N],
     /// The shared permutation `(kx, ky, kz)`, when there is one.
     common: Option<[usize; 3]>,
     /// Each lane's permutation, axis by axis (`0`, `1` or `2`).
@@ -333,7 +331,6 @@ impl<const N: usize> WatertightPacket<N> {
     #[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
     pub fn new(packet: &crate::math::RayPacket<N>, live: &[bool; N]) -> Self {
         let mut p = Self {
-            rays: [None; N],
             common: None,
             perm: [[0; N]; 3],
             o: [[0.0; N]; 3],
@@ -359,12 +356,23 @@ impl<const N: usize> WatertightPacket<N> {
             }
             let (sx, sy, sz) = w.shear_constants();
             (p.sx[i], p.sy[i], p.sz[i]) = (sx, sy, sz);
-            p.rays[i] = Some(w);
         }
         if !shared {
             p.common = None;
         }
         p
+    }
+
+    /// Lane `i`'s prepared ray, the scalar kernel's input for edge cases: rebuilt from the
+    /// lane's permutation, permuted origin and shear constants, the very values
+    /// [`WatertightRay::new`] gave (kept as lane arrays, not as sixteen copies of the ray,
+    /// which a packet would build and copy for its rare edge hits).
+    #[inline]
+    fn ray(&self, i: usize) -> WatertightRay {
+        let [kx, ky, kz] = [0, 1, 2].map(|c| self.perm[c][i] as usize);
+        let mut origin = Vec3::ZERO;
+        (origin[kx], origin[ky], origin[kz]) = (self.o[0][i], self.o[1][i], self.o[2][i]);
+        WatertightRay { origin, kx, ky, kz, sx: self.sx[i], sy: self.sy[i], sz: self.sz[i] }
     }
 }
 
@@ -467,9 +475,10 @@ fn lanes_with<const N: usize>(
             let det = det_hit[i];
             bound[i] = t_hit[i];
             record(i, TriangleHit { t: t_hit[i], u: uve[1][i] / det, v: uve[2][i] / det });
-        } else if let Some(ray) = &w.rays[i] {
-            // On an edge in f32: the scalar kernel's f64 re-check and tie-break decide.
-            if let Some(h) = intersect(v0, v1, v2, ray, t_min[i], bound[i]) {
+        } else {
+            // On an edge in f32 (only live lanes are): the scalar kernel's f64 re-check and
+            // tie-break decide.
+            if let Some(h) = intersect(v0, v1, v2, &w.ray(i), t_min[i], bound[i]) {
                 bound[i] = h.t;
                 record(i, h);
             }
