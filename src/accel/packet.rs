@@ -234,11 +234,15 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
         2
     };
     let forward = d0[k] > 0.0;
+    // Lane by lane without a branch (so the lanes stay in vectors), then one decision.
+    let mut against = false;
     for i in 0..N {
-        let along = if forward { packet.dir[k][i] > 0.0 } else { packet.dir[k][i] < 0.0 };
-        if inside[i] && !(along && packet.inv_dir[k][i].is_finite()) {
-            return Walk::GaveUp(inside);
-        }
+        let d = packet.dir[k][i];
+        let along = if forward { d > 0.0 } else { d < 0.0 };
+        against |= inside[i] & !(along & packet.inv_dir[k][i].is_finite());
+    }
+    if against {
+        return Walk::GaveUp(inside);
     }
     let axes = [k, (k + 1) % 3, (k + 2) % 3];
     // The largest origin coordinate of the lanes inside, lane by lane and then by halving (a

@@ -48,8 +48,9 @@ impl WatertightRay {
         } else {
             2
         };
-        let mut kx = (kz + 1) % 3;
-        let mut ky = (kx + 1) % 3;
+        // The next two axes in cyclic order, `(kz + 1) % 3` and `(kz + 2) % 3`, without a
+        // division.
+        let (mut kx, mut ky) = [(1, 2), (2, 0), (0, 1)][kz];
         // Keep the winding: a negative z axis swaps the other two.
         if ray.dir[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
