@@ -145,7 +145,8 @@ impl Aabb {
                 let inv = packet.inv_dir[axis][i];
                 // A lane that does not move along this axis: inside the slab or a miss.
                 let flat = packet.dir[axis][i] == 0.0;
-                meets[i] &= !(flat && (o < lo || o > hi));
+                // `&` and `|`, not `&&` and `||`: no branch per lane, so the lanes stay in vectors.
+                meets[i] &= !(flat & ((o < lo) | (o > hi)));
                 let a = (lo - o) * inv;
                 let b = (hi - o) * inv;
                 t0[i] = if flat { t0[i] } else { t0[i].max(a.min(b)) };

@@ -392,7 +392,11 @@ pub fn triangle_lanes<const N: usize>(
 ) {
     match w.common {
         Some([kx, ky, kz]) => {
-            let p = [[v0[kx], v0[ky], v0[kz]], [v1[kx], v1[ky], v1[kz]], [v2[kx], v2[ky], v2[kz]]];
+            // Arrays, not `Vec3` indexing (a `match` per coordinate).
+            let p = [v0, v1, v2].map(|v| {
+                let a = v.to_array();
+                [a[kx], a[ky], a[kz]]
+            });
             lanes_with([v0, v1, v2], w, live, t_min, bound, record, |j, _| p[j])
         }
         None => {
