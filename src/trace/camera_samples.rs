@@ -182,16 +182,14 @@ impl<'a, S: PrimitiveStore> CameraSampler<'a, S> {
         rays: &mut RayCounts,
     ) -> (RayPacket<N>, [Option<CameraSample>; N]) {
         debug_assert!(self.scene.motion.is_none() && self.scene.camera.has_lens() && count <= N);
+        if !self.spread {
+            return packet_of((first..first + count as u32).map(|sample| {
+                let (ray, camera, _) = self.sample(x, y, sample, rays);
+                (ray, camera)
+            }));
+        }
         let mut packet = RayPacket::<N>::default();
         let mut cameras = [None; N];
-        if !self.spread {
-            for (lane, sample) in (first..first + count as u32).enumerate() {
-                let (ray, camera, _) = self.sample(x, y, sample, rays);
-                packet.put(lane, &ray, 0.0, f32::INFINITY);
-                cameras[lane] = Some(camera);
-            }
-            return (packet, cameras);
-        }
         let settings = self.settings;
         let pixel = y * settings.width + x;
         let patterns = self.pixel_key(pixel);
@@ -359,6 +357,21 @@ pub(super) fn trace_camera_ray<S: PrimitiveStore>(
     let colour = radiance(scene, ray, 0, 1.0, &mut ctx);
     ctx.finish();
     colour
+}
+
+/// A packet of the camera rays `samples` gives, lane by lane from lane 0, each searched from 0 to
+/// ∞ (reciprocals not yet taken: [`RayPacket::reciprocals`], at the packet's SIMD level), with
+/// each lane's camera sample; at most `N` are taken.
+pub(super) fn packet_of<const N: usize>(
+    samples: impl IntoIterator<Item = (Ray, CameraSample)>,
+) -> (RayPacket<N>, [Option<CameraSample>; N]) {
+    let mut packet = RayPacket::<N>::default();
+    let mut cameras = [None; N];
+    for (lane, (ray, camera)) in samples.into_iter().take(N).enumerate() {
+        packet.put(lane, &ray, 0.0, f32::INFINITY);
+        cameras[lane] = Some(camera);
+    }
+    (packet, cameras)
 }
 
 #[cfg(test)]

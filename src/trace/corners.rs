@@ -5,7 +5,7 @@ use std::collections::HashMap;
 
 use rayon::prelude::*;
 
-use super::camera_samples::{stratum_time, trace_camera_ray};
+use super::camera_samples::{packet_of, stratum_time, trace_camera_ray};
 use super::finite::{DropTally, SampleMean};
 use super::packet::{LANES, MIN_LANES};
 use super::packet_tile::{lens_packets, shade_packet};
@@ -14,7 +14,7 @@ use super::scene::TraceScene;
 use super::settings::RenderSettings;
 use super::stats::{AdaptiveCounts, RayCounts};
 use super::tiles::{assemble, saturate, Assembled, TileResult, TILE};
-use crate::math::{RayPacket, Vec3};
+use crate::math::Vec3;
 use crate::sample::adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint, PointSample};
 use crate::sample::dims;
 use crate::sample::pattern::{disk_point, disk_point_in, strata};
@@ -197,14 +197,12 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
     match packets.filter(|_| m as usize >= MIN_LANES) {
         Some(level) => {
             for first in (0..m).step_by(LANES) {
-                let mut packet = RayPacket::<LANES>::default();
-                let mut cameras = [None; LANES];
-                for (lane, j) in (first..m.min(first + LANES as u32)).enumerate() {
-                    // Nothing moves where there are packets: every time is 0.
-                    let (ray, camera, _) = sample(j, rays);
-                    packet.put(lane, &ray, 0.0, f32::INFINITY);
-                    cameras[lane] = Some(camera);
-                }
+                // Nothing moves where there are packets: every time is 0.
+                let (mut packet, cameras) =
+                    packet_of::<LANES>((first..m.min(first + LANES as u32)).map(|j| {
+                        let (ray, camera, _) = sample(j, rays);
+                        (ray, camera)
+                    }));
                 level.run(
                     #[inline(always)]
                     || packet.reciprocals(),
