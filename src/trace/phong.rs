@@ -36,9 +36,29 @@ pub fn phong(m: &Material, normal: Vec3, view: Vec3, to_light: Vec3, n_dot_l: f3
         // R·V of unit vectors is at most 1, but rounds a little above it at the highlight's
         // centre, where a huge shininess would raise it to +∞.
         let r_dot_v = reflect(-to_light, normal).dot(view).clamp(0.0, 1.0);
-        diffuse + Vec3::splat(m.ks * r_dot_v.powf(m.shininess))
+        diffuse + Vec3::splat(m.ks * specular_power(r_dot_v, m.shininess))
     } else {
         diffuse
+    }
+}
+
+/// `x^s` for the Phong highlight, `x` in `[0, 1]`: by squaring in 64-bit floats for a whole
+/// exponent (every accepted shininess up to [`crate::scene::rules::MAX_SHININESS`] that is an
+/// integer), `powf` otherwise.
+#[inline]
+pub fn specular_power(x: f32, s: f32) -> f32 {
+    if s == s.trunc() && s <= crate::scene::rules::MAX_SHININESS {
+        let (mut base, mut n, mut acc) = (f64::from(x), s as u32, 1.0f64);
+        while n != 0 {
+            if n & 1 != 0 {
+                acc *= base;
+            }
+            base *= base;
+            n >>= 1;
+        }
+        acc as f32
+    } else {
+        x.powf(s)
     }
 }
 
@@ -297,5 +317,33 @@ mod tests {
             assert!(c.is_finite() && c.max_element() <= 0.2 + 0.5 + 1e-6, "{k}: {c}");
         }
         assert!(above_one > 0, "no case rounds R·V above 1; the test would prove nothing");
+    }
+
+    /// Whole exponents agree with the exact power (`f64::powi` of the same base, whose error is
+    /// far below an `f32` ulp) to within one ulp, down to and through underflow; `0^0` is 1 as
+    /// for `powf`, and a fractional exponent is `powf`.
+    #[test]
+    fn the_specular_power_is_the_power_to_within_an_ulp() {
+        let ulp = |v: f32| f32::from_bits(v.to_bits() + 1) - v;
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut underflowed = 0;
+        for k in 0..20_000 {
+            let x = if k % 7 == 0 { 1.0 - next() * 1e-3 } else { next() };
+            let s = (next() * next() * 1e4).floor();
+            let got = specular_power(x, s);
+            let exact = f64::from(x).powi(s as i32);
+            let expected = exact as f32;
+            underflowed += u32::from(expected == 0.0);
+            assert!((got - expected).abs() <= ulp(expected), "{x}^{s}: {got} vs {expected} ({exact:e})");
+        }
+        assert!(underflowed > 0, "no case underflows; the test would miss that range");
+        assert_eq!(specular_power(0.0, 0.0), 1.0);
+        assert_eq!(specular_power(0.0, 3.0), 0.0);
+        assert_eq!(specular_power(1.0, 1e4), 1.0);
+        assert_eq!(specular_power(0.7, 2.5), 0.7f32.powf(2.5));
     }
 }
