@@ -19,7 +19,9 @@ use penumbra::geom::triangle::{self, TriangleHit, WatertightPacket, WatertightRa
 use penumbra::geom::{MeshId, Shape};
 use penumbra::math::{Affine3A, Quat, Ray, RayPacket, Vec3};
 use penumbra::simd::SimdLevel;
-use penumbra::store::{AosStore, Hit, MaterialId, MeshAsset, PlacedObject, PrimitiveStore, TraversalCost};
+use penumbra::store::{
+    AosStore, Hit, MaterialId, MeshAsset, ObjectKind, PlacedObject, PrimitiveStore, TraversalCost,
+};
 use penumbra::trace::packet::{closest_hits, occluded, shadow_passes, Origins, LANES};
 use penumbra::trace::{closest_hit, Material, TraceScene};
 use proptest::prelude::*;
@@ -581,6 +583,74 @@ fn sphere_cloud<S: PrimitiveStore>() -> TraceScene<S> {
         common::tables_with(vec![Material::default()], Vec3::new(0.0, 0.0, 30.0)),
         0.1,
     )
+}
+
+/// 200 spheres first, then the random mixed cloud (spheres among triangles, polygons and
+/// boxes): the structure-of-arrays store knows the leading spheres by their ids alone, the
+/// later ones by their kind.
+fn spheres_then_mixed<S: PrimitiveStore>() -> TraceScene<S> {
+    let mut rng = rng(0x1ead);
+    let mut objects: Vec<PlacedObject> = (0..200)
+        .map(|_| {
+            let centre = point_in(&mut rng, Vec3::splat(-5.0), Vec3::splat(5.0)).as_dvec3();
+            let radius = rng.random_range(0.1f32..0.4);
+            PlacedObject {
+                geometry: Shape::Sphere { centre, radius }.place(&glam::DAffine3::IDENTITY, DVec3::ZERO),
+                material: MaterialId(0),
+            }
+        })
+        .collect();
+    objects.extend(common::random_mixed(11, 120));
+    TraceScene::build(
+        &objects,
+        common::tables_with(vec![Material::default()], Vec3::new(0.0, 0.0, 30.0)),
+        1.0,
+    )
+}
+
+/// The array-of-structures store reads every object's kind; the structure-of-arrays store skips
+/// that for its leading spheres. Both must find the same hits and blockers, ray for ray and
+/// lane for lane, for spheres on either side of the boundary.
+#[test]
+fn leading_spheres_are_found_as_every_other_object_is() {
+    let (soa, aos) = (spheres_then_mixed::<penumbra::store::SoaStore>(), spheres_then_mixed::<AosStore>());
+    let mut rng = rng(0x5ca1);
+    let (mut leading, mut later, mut blocked, mut shadows) = (0, 0, 0, 0);
+    for round in 0..300 {
+        let p = packet(&mut rng, &soa, [Kind::CameraBlock, Kind::Mixed, Kind::Segments][round % 3]);
+        let got = SimdLevel::Auto.run(
+            #[inline(always)]
+            || closest_hits(&soa, &p, &mut TraversalCost::default()),
+        );
+        for i in (0..LANES).filter(|&i| p.active[i]) {
+            let ray = p.ray(i);
+            let want = closest_hit(&aos, &ray, p.t_min[i], p.t_max[i]);
+            assert_eq!(
+                bits(closest_hit(&soa, &ray, p.t_min[i], p.t_max[i])),
+                bits(want),
+                "round {round}, lane {i}"
+            );
+            assert_eq!(bits(got.hit[i]), bits(want), "round {round}, lane {i} (packet)");
+            match want.map(|h| h.object.kind()) {
+                Some(ObjectKind::Bounded(id)) if id < 200 => leading += 1,
+                Some(ObjectKind::Bounded(_)) => later += 1,
+                _ => {}
+            }
+        }
+        let s = shadow_packet(&mut rng, round % 2 == 0);
+        let got = SimdLevel::Auto.run(
+            #[inline(always)]
+            || occluded(&soa, &s, Origins::Apart, &mut TraversalCost::default()),
+        );
+        for i in (0..LANES).filter(|&i| s.active[i]) {
+            let want = penumbra::trace::transmittance(&aos, &s.ray(i), s.t_max[i]) == Vec3::ZERO;
+            assert_eq!(penumbra::trace::transmittance(&soa, &s.ray(i), s.t_max[i]) == Vec3::ZERO, want);
+            assert_eq!(got[i], want, "round {round}, shadow lane {i}");
+            (blocked, shadows) = (blocked + usize::from(want), shadows + 1);
+        }
+    }
+    assert!(leading > 200 && later > 200, "hits on leading spheres {leading}, on later objects {later}");
+    assert!(blocked * 5 > shadows && blocked * 5 < shadows * 4, "{blocked} of {shadows} blocked");
 }
 
 /// Packet walks screen a top-level cell's spheres by the slice's footprint
