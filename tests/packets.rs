@@ -565,19 +565,24 @@ fn shadow_packets_block_exactly_the_lanes_single_rays_find_blocked() {
     assert!(blocked * 5 > lanes && blocked * 5 < lanes * 4, "{blocked} blocked of {lanes}");
 }
 
-/// 3,000 small spheres, a dozen or more to a top-level cell (density 0.1).
-fn sphere_cloud<S: PrimitiveStore>() -> TraceScene<S> {
-    let mut rng = rng(0xc10d);
-    let objects: Vec<PlacedObject> = (0..3000)
+/// `n` spheres of radii in `radii` at random in [-5, 5]³.
+fn random_spheres(seed: u64, n: usize, radii: std::ops::Range<f32>) -> Vec<PlacedObject> {
+    let mut rng = rng(seed);
+    (0..n)
         .map(|_| {
             let centre = point_in(&mut rng, Vec3::splat(-5.0), Vec3::splat(5.0)).as_dvec3();
-            let radius = rng.random_range(0.03f32..0.12);
+            let radius = rng.random_range(radii.clone());
             PlacedObject {
                 geometry: Shape::Sphere { centre, radius }.place(&glam::DAffine3::IDENTITY, DVec3::ZERO),
                 material: MaterialId(0),
             }
         })
-        .collect();
+        .collect()
+}
+
+/// 3,000 small spheres, a dozen or more to a top-level cell (density 0.1).
+fn sphere_cloud<S: PrimitiveStore>() -> TraceScene<S> {
+    let objects = random_spheres(0xc10d, 3000, 0.03..0.12);
     TraceScene::build(
         &objects,
         common::tables_with(vec![Material::default()], Vec3::new(0.0, 0.0, 30.0)),
@@ -589,17 +594,7 @@ fn sphere_cloud<S: PrimitiveStore>() -> TraceScene<S> {
 /// boxes): the structure-of-arrays store knows the leading spheres by their ids alone, the
 /// later ones by their kind.
 fn spheres_then_mixed<S: PrimitiveStore>() -> TraceScene<S> {
-    let mut rng = rng(0x1ead);
-    let mut objects: Vec<PlacedObject> = (0..200)
-        .map(|_| {
-            let centre = point_in(&mut rng, Vec3::splat(-5.0), Vec3::splat(5.0)).as_dvec3();
-            let radius = rng.random_range(0.1f32..0.4);
-            PlacedObject {
-                geometry: Shape::Sphere { centre, radius }.place(&glam::DAffine3::IDENTITY, DVec3::ZERO),
-                material: MaterialId(0),
-            }
-        })
-        .collect();
+    let mut objects = random_spheres(0x1ead, 200, 0.1..0.4);
     objects.extend(common::random_mixed(11, 120));
     TraceScene::build(
         &objects,

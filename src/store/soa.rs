@@ -91,6 +91,16 @@ impl SoaStore {
         }
     }
 
+    /// Bounded object `id`'s kind and index into that kind's arrays, read from neither array
+    /// for a leading sphere.
+    #[inline(always)]
+    fn kind_and_first(&self, id: u32) -> (Kind, u32) {
+        match id < self.leading_spheres {
+            true => (Kind::Sphere, id),
+            false => (self.kind[id as usize], self.first[id as usize]),
+        }
+    }
+
     /// Whether bounded object `id` is a sphere.
     #[inline(always)]
     fn is_sphere(&self, id: u32) -> bool {
@@ -259,22 +269,8 @@ impl PrimitiveStore for SoaStore {
         hits: &mut PacketHits<N>,
         cost: &mut TraversalCost,
     ) {
-        if id < self.leading_spheres {
-            let i = id as usize;
-            let centre = self.centre.get(i);
-            return packet::sphere_hits(
-                centre,
-                self.radius[i],
-                ObjectId::bounded(id),
-                packet,
-                live,
-                hits,
-                cost,
-            );
-        }
-        let o = id as usize;
-        let first = self.first[o];
-        match self.kind[o] {
+        let (kind, first) = self.kind_and_first(id);
+        match kind {
             Kind::Instance => {
                 let i = first as usize;
                 let mesh = &self.meshes[self.instance_mesh[i] as usize];
@@ -285,7 +281,7 @@ impl PrimitiveStore for SoaStore {
                 &self.triangles,
                 ObjectId::bounded(id),
                 first,
-                self.count[o],
+                self.count[id as usize],
                 packet,
                 live,
                 hits,
@@ -338,13 +334,8 @@ impl PrimitiveStore for SoaStore {
         occluded: &mut [bool; N],
         cost: &mut TraversalCost,
     ) {
-        if id < self.leading_spheres {
-            let i = id as usize;
-            return packet::sphere_occluded(self.centre.get(i), self.radius[i], packet, live, occluded, cost);
-        }
-        let o = id as usize;
-        let first = self.first[o];
-        match self.kind[o] {
+        let (kind, first) = self.kind_and_first(id);
+        match kind {
             Kind::Instance => {
                 let i = first as usize;
                 let mesh = &self.meshes[self.instance_mesh[i] as usize];
@@ -354,7 +345,7 @@ impl PrimitiveStore for SoaStore {
             Kind::Triangles => packet::triangle_range_occluded(
                 &self.triangles,
                 first,
-                self.count[o],
+                self.count[id as usize],
                 packet,
                 live,
                 occluded,
