@@ -243,19 +243,19 @@ impl PrimitiveStore for SoaStore {
 
     #[inline]
     fn occludes_bounded<T: Tally>(&self, id: u32, ray: &Ray, t_min: f32, t_max: f32, cost: &mut T) -> bool {
-        if id < self.leading_spheres {
-            return self.sphere_hit(id, ray, t_min, t_max, cost).is_some();
-        }
-        let o = id as usize;
-        match self.kind[o] {
+        let (kind, first) = self.kind_and_first(id);
+        match kind {
             Kind::Instance => {
-                let i = self.first[o] as usize;
+                let i = first as usize;
                 let mesh = &self.meshes[self.instance_mesh[i] as usize];
                 let local = mesh::object_ray(&self.instance_to_object.get(i), ray);
                 mesh::occluded(mesh, &local, t_min, t_max, cost)
             }
             // The commonest blocker.
-            Kind::Sphere => self.sphere_hit(id, ray, t_min, t_max, cost).is_some(),
+            Kind::Sphere => {
+                let i = first as usize;
+                super::sphere_hit(self.centre.get(i), self.radius[i], id, ray, t_min, t_max, cost).is_some()
+            }
             _ => self.intersect_any(id, ray, t_min, t_max, cost).is_some(),
         }
     }
