@@ -324,18 +324,26 @@ impl<const N: usize> RayPacket<N> {
     }
 
     /// The packet mapped into an instance's object space lane by lane, exactly as
-    /// [`crate::store::mesh::object_ray`] maps a single ray (ranges and lanes unchanged).
-    #[inline]
+    /// [`crate::store::mesh::object_ray`] maps a single ray (the same products and sums in the
+    /// same order as glam's `transform_point3` and `transform_vector3`, and the reciprocal
+    /// [`Self::set`] takes; ranges and lanes unchanged, dead lanes zero), the lanes sharing
+    /// vector instructions.
+    #[inline(always)]
     #[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
     pub fn mapped(&self, to_object: &Affine3A, live: &[bool; N]) -> Self {
         let mut out = Self { t_min: self.t_min, t_max: self.t_max, active: *live, ..Self::default() };
-        for i in 0..N {
-            if live[i] {
-                let local = Ray::new(
-                    to_object.transform_point3(self.ray(i).origin),
-                    to_object.transform_vector3(self.ray(i).dir),
-                );
-                out.set(i, &local, self.t_min[i], self.t_max[i]);
+        let m = &to_object.matrix3;
+        let axes = [m.x_axis, m.y_axis, m.z_axis].map(|a| a.to_array());
+        let shift = to_object.translation.to_array();
+        let (o, d) = (&self.origin, &self.dir);
+        for r in 0..3 {
+            for i in 0..N {
+                let origin = axes[0][r] * o[0][i] + axes[1][r] * o[1][i] + axes[2][r] * o[2][i] + shift[r];
+                let dir = axes[0][r] * d[0][i] + axes[1][r] * d[1][i] + axes[2][r] * d[2][i];
+                let inv = 1.0 / dir;
+                out.origin[r][i] = if live[i] { origin } else { 0.0 };
+                out.dir[r][i] = if live[i] { dir } else { 0.0 };
+                out.inv_dir[r][i] = if live[i] { inv } else { 0.0 };
             }
         }
         out

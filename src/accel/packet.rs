@@ -161,10 +161,11 @@ impl<const N: usize> Frame<'_, N> {
                 hi[c][i] = if valid { max(pa, pb) } else { f32::NEG_INFINITY };
             }
         }
-        let ext = [0, 1].map(|c| {
-            let (l, h) = extent(lo[c], hi[c]);
-            [l, h]
-        });
+        // Two calls, not a `map` over the axes: the compiler kept that closure out of line,
+        // passing the lane arrays through memory.
+        let (u_lo, u_hi) = extent(lo[0], hi[0]);
+        let (v_lo, v_hi) = extent(lo[1], hi[1]);
+        let ext = [[u_lo, u_hi], [v_lo, v_hi]];
         if ext[0][0] > ext[0][1] {
             return None;
         }

@@ -327,7 +327,9 @@ impl<const N: usize> WatertightPacket<N> {
         self.common
     }
 
-    /// Prepares the `live` lanes of `packet`.
+    /// Prepares the `live` lanes of `packet`: lane for lane what [`WatertightRay::new`] gives
+    /// (the same comparisons, NaN included, and the same divisions), worked out without a
+    /// branch per lane so that the lanes share vector instructions; dead lanes get zeros.
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
     pub fn new(packet: &crate::math::RayPacket<N>, live: &[bool; N]) -> Self {
@@ -339,27 +341,50 @@ impl<const N: usize> WatertightPacket<N> {
             sy: [0.0; N],
             sz: [0.0; N],
         };
-        let mut shared = true;
+        // Coordinate `k` of a lane's vector, by selection (indexing would leave the vectors).
+        let pick = |v: [f32; 3], k: u32| {
+            if k == 0 {
+                v[0]
+            } else if k == 1 {
+                v[1]
+            } else {
+                v[2]
+            }
+        };
+        // A lane's permutation is fixed by `kz` and the sign of `d_kz`: `2·kz + negative`.
+        let mut code = [0u32; N];
         for i in 0..N {
-            if !live[i] {
-                continue;
+            let d = [packet.dir[0][i], packet.dir[1][i], packet.dir[2][i]];
+            let o = [packet.origin[0][i], packet.origin[1][i], packet.origin[2][i]];
+            let a = d.map(f32::abs);
+            // `WatertightRay::new`'s comparison chain as arithmetic on its two outcomes.
+            let x_largest = (a[0] >= a[1]) & (a[0] >= a[2]);
+            let y_over_z = a[1] >= a[2];
+            let kz = u32::from(!x_largest) * (1 + u32::from(!y_over_z));
+            let dz = pick(d, kz);
+            let negative = dz < 0.0;
+            // The next two axes in cyclic order, swapped when the z axis points backwards.
+            let k1 = if kz == 2 { 0 } else { kz + 1 };
+            let k2 = if k1 == 2 { 0 } else { k1 + 1 };
+            let (kx, ky) = if negative { (k2, k1) } else { (k1, k2) };
+            let (sx, sy, sz) = (pick(d, kx) / dz, pick(d, ky) / dz, 1.0 / dz);
+            let on = live[i];
+            let keep = |x: f32| if on { x } else { 0.0 };
+            for (c, k) in [kx, ky, kz].into_iter().enumerate() {
+                p.perm[c][i] = if on { k } else { 0 };
+                p.o[c][i] = keep(pick(o, k));
             }
-            let w = WatertightRay::new(&packet.ray(i));
-            let perm = w.permutation();
-            match p.common {
-                None if shared => p.common = Some(perm),
-                Some(c) if c != perm => shared = false,
-                _ => {}
-            }
-            for c in 0..3 {
-                p.perm[c][i] = perm[c] as u32;
-                p.o[c][i] = packet.origin[perm[c]][i];
-            }
-            let (sx, sy, sz) = w.shear_constants();
-            (p.sx[i], p.sy[i], p.sz[i]) = (sx, sy, sz);
+            (p.sx[i], p.sy[i], p.sz[i]) = (keep(sx), keep(sy), keep(sz));
+            code[i] = 2 * kz + u32::from(negative);
         }
-        if !shared {
-            p.common = None;
+        if let Some(first) = live.iter().position(|&l| l) {
+            let mut shared = true;
+            for i in 0..N {
+                shared &= !live[i] | (code[i] == code[first]);
+            }
+            if shared {
+                p.common = Some([0, 1, 2].map(|c| p.perm[c][first] as usize));
+            }
         }
         p
     }

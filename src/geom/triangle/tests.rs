@@ -66,3 +66,58 @@ fn box_overlap_is_exact_not_bounds() {
     let through = Aabb::new(Vec3::splat(0.3), Vec3::splat(0.4));
     assert!(overlaps_box(v0, v1, v2, &through));
 }
+
+/// A packet's prepared lanes are [`WatertightRay::new`]'s, bit for bit, at every SIMD level:
+/// every direction whose components come from ±0, ±1, ±2, ±∞, NaN and a subnormal (ties
+/// between axes, zero and non-finite components included), some lanes dead; the common
+/// permutation is the one all live lanes share, and there is none when they differ.
+#[test]
+fn a_prepared_packet_is_the_prepared_rays_lane_for_lane() {
+    use crate::math::RayPacket;
+    use crate::simd::SimdLevel;
+    let values = [0.0, -0.0, 1.0, -1.0, 2.0, -2.0, f32::INFINITY, f32::NEG_INFINITY, f32::NAN, 1e-40];
+    let dirs: Vec<Vec3> = (0..values.len().pow(3))
+        .map(|n| Vec3::new(values[n % 10], values[n / 10 % 10], values[n / 100]))
+        .collect();
+    let bits = |w: &WatertightRay| {
+        let [kx, ky, kz] = w.permutation();
+        let (sx, sy, sz) = w.shear_constants();
+        let o = w.origin.to_array().map(f32::to_bits);
+        (o, [kx, ky, kz], [sx, sy, sz].map(f32::to_bits))
+    };
+    let mut shared_seen = [false; 2];
+    for (n, chunk) in dirs.chunks(16).enumerate() {
+        // Lanes share their directions' pattern in some packets (one repeated direction).
+        let same = n % 3 == 0;
+        let mut p = RayPacket::<16>::default();
+        for (i, &d) in chunk.iter().enumerate() {
+            let d = if same { chunk[0] } else { d };
+            p.set(i, &Ray::new(Vec3::new(i as f32, -0.5 * n as f32, 3.0), d), 0.0, 1.0);
+        }
+        let live: [bool; 16] = std::array::from_fn(|i| p.active[i] && (i + n) % 5 != 4);
+        for level in SimdLevel::ALL.into_iter().filter(|l| l.available()) {
+            let w = level.run(
+                #[inline(always)]
+                || WatertightPacket::new(&p, &live),
+            );
+            let mut common = None;
+            let mut agree = true;
+            for i in 0..16 {
+                if !live[i] {
+                    assert_eq!(bits(&w.ray(i)), ([0; 3], [0; 3], [0; 3]), "dead lane {i} is zero");
+                    continue;
+                }
+                let want = WatertightRay::new(&p.ray(i));
+                assert_eq!(bits(&w.ray(i)), bits(&want), "lane {i} of packet {n} at {level}");
+                match common {
+                    None => common = Some(want.permutation()),
+                    Some(c) => agree &= c == want.permutation(),
+                }
+            }
+            let want = if agree { common } else { None };
+            assert_eq!(w.common_permutation(), want, "packet {n} at {level}");
+            shared_seen[usize::from(want.is_some())] = true;
+        }
+    }
+    assert_eq!(shared_seen, [true, true], "packets with and without a common permutation");
+}
