@@ -114,8 +114,7 @@ pub(crate) fn extent<const N: usize>(mut lo: [f32; N], mut hi: [f32; N]) -> (f32
 }
 
 /// A packet's lanes in the frame of one walk: the dominant axis `k` and the cross axes `u`, `v`.
-struct Frame<'a, const N: usize> {
-    grid: &'a UniformGrid,
+struct Frame<const N: usize> {
     axes: [usize; 3],
     o: [[f32; N]; 3],
     d: [[f32; N]; 3],
@@ -125,23 +124,30 @@ struct Frame<'a, const N: usize> {
     /// kernels' differences from the origins: [`MARGIN_RELATIVE`] of the largest origin
     /// coordinate.
     slack: f32,
+    /// The grid's lower corner, cell size, reciprocal cell size and last cell index, in the
+    /// frame's axes (`k`, `u`, `v`): read by constant index, not by a grid axis known only at
+    /// run time (a `Vec3` index is a `match`).
+    min: [f32; 3],
+    cell: [f32; 3],
+    inv_cell: [f32; 3],
+    last: [i64; 3],
 }
 
-impl<const N: usize> Frame<'_, N> {
-    /// The rounding margin of coordinates in `[lo, hi]` on `axis`.
+impl<const N: usize> Frame<N> {
+    /// The rounding margin of coordinates in `[lo, hi]` on frame axis `f` (0 for `k`, 1 and 2
+    /// for `u` and `v`).
     #[inline(always)]
-    fn margin(&self, axis: usize, lo: f32, hi: f32) -> f32 {
-        MARGIN_CELLS * self.grid.cell_size[axis] + MARGIN_RELATIVE * lo.abs().max(hi.abs())
+    fn margin(&self, f: usize, lo: f32, hi: f32) -> f32 {
+        MARGIN_CELLS * self.cell[f] + MARGIN_RELATIVE * lo.abs().max(hi.abs())
     }
 
-    /// The cell of coordinate `c` on `axis`, clamped into the grid.
+    /// The cell of coordinate `c` on frame axis `f`, clamped into the grid.
     #[inline(always)]
-    fn cell_of(&self, axis: usize, c: f32) -> i64 {
-        let g = self.grid;
-        let f = (c - g.bounds.min[axis]) * g.inv_cell_size[axis];
+    fn cell_of(&self, f: usize, c: f32) -> i64 {
+        let x = (c - self.min[f]) * self.inv_cell[f];
         // NaN (only from infinite inputs) clamps to the first cell, as `max` drops it; then
         // truncation is the floor of the non-negative value.
-        (f.max(0.0) as i64).min(i64::from(g.dims[axis]) - 1)
+        (x.max(0.0) as i64).min(self.last[f])
     }
 
     /// The rectangle of the `walking` lanes' points between walls `wa` and `wb` of the dominant
@@ -174,13 +180,13 @@ impl<const N: usize> Frame<'_, N> {
         for c in 0..2 {
             let axis = self.axes[c + 1];
             let [l, h] = ext[c];
-            let margin = self.margin(axis, l, h);
-            out[c] = [self.cell_of(axis, l - margin), self.cell_of(axis, h + margin)];
+            let margin = self.margin(c + 1, l, h);
+            out[c] = [self.cell_of(c + 1, l - margin), self.cell_of(c + 1, h + margin)];
             (lo[axis], hi[axis]) = (l - margin - self.slack, h + margin + self.slack);
         }
         let k = self.axes[0];
         let (wl, wh) = (min(wa, wb), max(wa, wb));
-        let margin = self.margin(k, wl, wh) + self.slack;
+        let margin = self.margin(0, wl, wh) + self.slack;
         (lo[k], hi[k]) = (wl - margin, wh + margin);
         Some(Rect { u: out[0], v: out[1], footprint: Aabb::new(Vec3::from(lo), Vec3::from(hi)) })
     }
@@ -260,13 +266,16 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
     });
     let (_, reach) = extent([0.0; N], far);
     let frame = Frame {
-        grid,
         axes,
         o: axes.map(|a| packet.origin[a]),
         d: axes.map(|a| packet.dir[a]),
         inv_k: packet.inv_dir[k],
         t_min: packet.t_min,
         slack: MARGIN_RELATIVE * reach,
+        min: axes.map(|a| grid.bounds.min[a]),
+        cell: axes.map(|a| grid.cell_size[a]),
+        inv_cell: axes.map(|a| grid.inv_cell_size[a]),
+        last: axes.map(|a| i64::from(grid.dims[a]) - 1),
     };
     // The slices the lanes cross, from their entry and exit points along the dominant axis.
     let (mut lo, mut hi) = ([f32::INFINITY; N], [f32::NEG_INFINITY; N]);
@@ -275,8 +284,8 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
         (lo[i], hi[i]) = if inside[i] { (min(a, b), max(a, b)) } else { (f32::INFINITY, f32::NEG_INFINITY) };
     }
     let (near, far) = extent(lo, hi);
-    let margin_k = frame.margin(k, near, far);
-    let (s_lo, s_hi) = (frame.cell_of(k, near - margin_k), frame.cell_of(k, far + margin_k));
+    let margin_k = frame.margin(0, near, far);
+    let (s_lo, s_hi) = (frame.cell_of(0, near - margin_k), frame.cell_of(0, far + margin_k));
     let (mut s, last, step) = if forward { (s_lo, s_hi, 1) } else { (s_hi, s_lo, -1) };
     let dims = grid.dims.map(i64::from);
     let stride = [1i64, dims[0], dims[0] * dims[1]];
