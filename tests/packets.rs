@@ -14,13 +14,16 @@ use std::sync::Arc;
 
 use common::{point_in, rng, unit_vector};
 use glam::DVec3;
+use penumbra::accel::packet::Footprint;
 use penumbra::geom::mesh::{icosphere, MeshData};
 use penumbra::geom::triangle::{self, TriangleHit, WatertightPacket, WatertightRay};
 use penumbra::geom::{MeshId, Shape};
+use penumbra::math::Aabb;
 use penumbra::math::{Affine3A, Quat, Ray, RayPacket, Vec3};
 use penumbra::simd::SimdLevel;
 use penumbra::store::{
-    AosStore, Hit, MaterialId, MeshAsset, ObjectKind, PlacedObject, PrimitiveStore, TraversalCost,
+    AosStore, AosTriangles, Hit, MaterialId, MeshAsset, ObjectKind, PlacedObject, PrimitiveStore,
+    SoaTriangles, TraversalCost, TriangleLayout,
 };
 use penumbra::trace::packet::{closest_hits, occluded, shadow_passes, Origins, LANES};
 use penumbra::trace::{closest_hit, Material, TraceScene};
@@ -987,4 +990,44 @@ fn packets_through_vertices_and_edge_wall_crossings_equal_single_rays() {
     }
     assert!(hits * 10 > lanes * 7, "the targets lie on the meshes: {hits} hits of {lanes} lanes");
     assert!(ties * 20 < hits, "ties are the exception: {ties} of {hits} hits");
+}
+
+/// A cell's screen against a walk's footprint, which compares the two cross axes only, keeps
+/// exactly the triangles whose bounds overlap the footprint when (as in a walk) the footprint
+/// spans the cell's triangles along the dominant axis: both layouts, every dominant axis,
+/// footprints with random corners and with corners on vertex coordinates (ties).
+#[test]
+fn the_triangle_screen_keeps_the_triangles_whose_bounds_meet_the_footprint() {
+    let mut rng = rng(41);
+    let (mut kept, mut declined) = (0, 0);
+    for round in 0..300 {
+        let tris: Vec<[Vec3; 3]> = (0..64)
+            .map(|_| [0; 3].map(|_| point_in(&mut rng, Vec3::splat(-1.0), Vec3::splat(1.0))))
+            .collect();
+        let soa = SoaTriangles::from_vertices(tris.clone());
+        let aos = AosTriangles::from_vertices(tris.clone());
+        let ids: Vec<u32> = (0..rng.random_range(1..=64)).map(|_| rng.random_range(0..64)).collect();
+        let k = round % 3;
+        let cross = [(k + 1) % 3, (k + 2) % 3];
+        let (mut lo, mut hi) = if round % 2 == 0 {
+            let a = point_in(&mut rng, Vec3::splat(-1.2), Vec3::splat(1.2));
+            (a, a + point_in(&mut rng, Vec3::ZERO, Vec3::splat(0.6)))
+        } else {
+            // Corners on vertices' coordinates: bounds that touch the footprint exactly.
+            let v = |rng: &mut StdRng| tris[rng.random_range(0..64)][rng.random_range(0..3)];
+            let (a, b) = (v(&mut rng), v(&mut rng));
+            (a.min(b), a.max(b))
+        };
+        (lo[k], hi[k]) = (-1e30, 1e30);
+        let footprint = Footprint { bounds: Aabb::new(lo, hi), cross };
+        let want = ids.iter().enumerate().fold(0u64, |mask, (j, &id)| {
+            let [a, b, c] = tris[id as usize];
+            mask | u64::from(footprint.bounds.overlaps(&triangle::bounds(a, b, c))) << j
+        });
+        assert_eq!(soa.screen(&ids, &footprint), want, "round {round}, structure of arrays");
+        assert_eq!(aos.screen(&ids, &footprint), want, "round {round}, array of structures");
+        kept += want.count_ones();
+        declined += ids.len() as u32 - want.count_ones();
+    }
+    assert!(kept > 1000 && declined > 1000, "kept {kept}, declined {declined}");
 }

@@ -25,6 +25,18 @@
 use super::grid::UniformGrid;
 use crate::math::{Aabb, RayPacket, Vec3};
 
+/// Where a slice's walking lanes can be: the box of their points in the slice, widened by the
+/// rounding margin plus the rounding of the kernels' differences from the origins.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Footprint {
+    /// The box, in the grid's axes.
+    pub bounds: Aabb,
+    /// The walk's two cross axes. Along the third, the dominant axis, the box spans the slice's
+    /// walls (widened), which every object listed in the slice's cells meets (a cell lists only
+    /// objects that meet it): a sink may compare the cross axes only.
+    pub cross: [usize; 2],
+}
+
 /// What a packet's walk does with the objects it meets.
 pub trait PacketSink<const N: usize> {
     /// Each lane's current search bound (its nearest hit so far).
@@ -35,7 +47,7 @@ pub trait PacketSink<const N: usize> {
     /// be hit there; one declined is screened again in every later slice whose cells hold it.
     /// By default every id is a candidate.
     #[inline(always)]
-    fn candidates(&self, ids: &[u32], footprint: &Aabb) -> u64 {
+    fn candidates(&self, ids: &[u32], footprint: &Footprint) -> u64 {
         let _ = footprint;
         u64::MAX >> (64 - ids.len())
     }
@@ -68,7 +80,7 @@ const MAILBOX: usize = 64;
 struct Rect {
     u: [i64; 2],
     v: [i64; 2],
-    footprint: Aabb,
+    footprint: Footprint,
 }
 
 /// The smaller of two floats by one compare (no NaN handling: the walk's values are finite or
@@ -188,7 +200,11 @@ impl<const N: usize> Frame<N> {
         let (wl, wh) = (min(wa, wb), max(wa, wb));
         let margin = self.margin(0, wl, wh) + self.slack;
         (lo[k], hi[k]) = (wl - margin, wh + margin);
-        Some(Rect { u: out[0], v: out[1], footprint: Aabb::new(Vec3::from(lo), Vec3::from(hi)) })
+        let footprint = Footprint {
+            bounds: Aabb::new(Vec3::from(lo), Vec3::from(hi)),
+            cross: [self.axes[1], self.axes[2]],
+        };
+        Some(Rect { u: out[0], v: out[1], footprint })
     }
 }
 

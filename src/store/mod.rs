@@ -26,6 +26,7 @@ pub use soa::{SoaStore, SoaTriangles};
 
 pub use crate::accel::{NoTally, Tally};
 
+use crate::accel::packet::Footprint;
 use crate::geom::mesh::MeshData;
 use crate::geom::triangle::{TriangleHit, WatertightRay};
 use crate::geom::uv::SurfaceUv;
@@ -182,6 +183,34 @@ pub trait TriangleLayout: Send + Sync + Sized + std::fmt::Debug + 'static {
     fn intersect(&self, i: u32, ray: &WatertightRay, t_min: f32, t_max: f32) -> Option<TriangleHit>;
     /// Bytes held.
     fn memory_bytes(&self) -> usize;
+    /// Which of triangles `ids` (at most 64, one cell's) have bounds that meet a packet walk's
+    /// `footprint` on its two cross axes (bit `k` for `ids[k]`), without a branch per triangle;
+    /// the same comparisons as the bounds' overlap with the footprint, less the dominant axis's,
+    /// which every triangle of the slice's cells passes. A layout may read only the two axes.
+    #[inline(always)]
+    fn screen(&self, ids: &[u32], footprint: &Footprint) -> u64 {
+        let [u, v] = footprint.cross;
+        let (lo, hi) = (footprint.bounds.min.to_array(), footprint.bounds.max.to_array());
+        let mut mask = 0u64;
+        for (k, &id) in ids.iter().enumerate() {
+            let [a, b, c] = self.vertices(id).map(|p| p.to_array());
+            let meets =
+                spans_meet([a[u], b[u], c[u]], lo[u], hi[u]) & spans_meet([a[v], b[v], c[v]], lo[v], hi[v]);
+            mask |= u64::from(meets) << k;
+        }
+        mask
+    }
+}
+
+/// Whether the span of three coordinates meets `[lo, hi]`: their smallest is at most `hi` and
+/// their largest at least `lo` (what a box overlap compares on one axis).
+#[inline(always)]
+pub fn spans_meet([a, b, c]: [f32; 3], lo: f32, hi: f32) -> bool {
+    // Compare-selects, not `f32::min` (NaN handling a mesh's finite vertices never need).
+    let min = |x: f32, y: f32| if x < y { x } else { y };
+    let max = |x: f32, y: f32| if x > y { x } else { y };
+    let (min, max) = (min(min(a, b), c), max(max(a, b), c));
+    (min <= hi) & (lo <= max)
 }
 
 /// A layout of flattened primitives that the tracer can intersect.

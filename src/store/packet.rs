@@ -6,9 +6,9 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::{Hit, MeshEntry, ObjectId, TraversalCost, TriangleLayout};
-use crate::accel::packet::{coherent_walk, PacketSink, Walk};
+use crate::accel::packet::{coherent_walk, Footprint, PacketSink, Walk};
 use crate::geom::triangle::{triangle_lanes, TriangleHit, WatertightPacket};
-use crate::math::{Aabb, RayPacket};
+use crate::math::RayPacket;
 
 /// Each lane's nearest hit so far; `t` bounds the search (a lane's `t_max` until it hits).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -91,13 +91,8 @@ fn mesh_walk<const N: usize, L: TriangleLayout>(
         /// The triangles whose bounds meet the footprint, screened without a branch per
         /// triangle (about half of a cell's pass, so a branch would often be mispredicted).
         #[inline(always)]
-        fn candidates(&self, ids: &[u32], footprint: &Aabb) -> u64 {
-            let mut mask = 0u64;
-            for (k, &id) in ids.iter().enumerate() {
-                let [a, b, c] = self.triangles.vertices(id);
-                mask |= u64::from(footprint.overlaps(&crate::geom::triangle::bounds(a, b, c))) << k;
-            }
-            mask
+        fn candidates(&self, ids: &[u32], footprint: &Footprint) -> u64 {
+            self.triangles.screen(ids, footprint)
         }
         #[inline(always)]
         fn visit(&mut self, id: u32, live: &[bool; N]) {

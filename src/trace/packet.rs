@@ -24,7 +24,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::scene::TraceScene;
-use crate::accel::packet::{coherent_walk, extent, PacketSink, Walk};
+use crate::accel::packet::{coherent_walk, extent, Footprint, PacketSink, Walk};
 use crate::math::{Aabb, RayPacket, Vec3};
 use crate::store::{PacketHits, PrimitiveStore, TraversalCost};
 
@@ -60,8 +60,8 @@ pub fn closest_hits<const N: usize, S: PrimitiveStore>(
             &self.hits.t
         }
         #[inline(always)]
-        fn candidates(&self, ids: &[u32], footprint: &Aabb) -> u64 {
-            screen(self.store, ids, footprint)
+        fn candidates(&self, ids: &[u32], footprint: &Footprint) -> u64 {
+            screen(self.store, ids, &footprint.bounds)
         }
         #[inline(always)]
         fn visit(&mut self, id: u32, live: &[bool; N]) {
@@ -123,8 +123,8 @@ pub fn occluded<const N: usize, S: PrimitiveStore>(
             &self.bound
         }
         #[inline(always)]
-        fn candidates(&self, ids: &[u32], footprint: &Aabb) -> u64 {
-            screen(self.store, ids, footprint)
+        fn candidates(&self, ids: &[u32], footprint: &Footprint) -> u64 {
+            screen(self.store, ids, &footprint.bounds)
         }
         #[inline(always)]
         fn visit(&mut self, id: u32, live: &[bool; N]) {
@@ -232,8 +232,8 @@ pub fn transmittances<const N: usize, S: PrimitiveStore>(
             &self.bound
         }
         #[inline(always)]
-        fn candidates(&self, ids: &[u32], footprint: &Aabb) -> u64 {
-            screen(&self.scene.store, ids, footprint)
+        fn candidates(&self, ids: &[u32], footprint: &Footprint) -> u64 {
+            screen(&self.scene.store, ids, &footprint.bounds)
         }
         #[inline(always)]
         fn visit(&mut self, id: u32, live: &[bool; N]) {

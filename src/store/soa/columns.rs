@@ -24,6 +24,16 @@ impl Xyz {
         Vec3::new(self.x[i], self.y[i], self.z[i])
     }
 
+    /// The coordinate array of `axis` (0, 1 or 2).
+    #[inline(always)]
+    pub(super) fn axis(&self, axis: usize) -> &[f32] {
+        match axis {
+            0 => &self.x,
+            1 => &self.y,
+            _ => &self.z,
+        }
+    }
+
     pub(super) fn bytes(&self) -> usize {
         3 * self.x.len() * std::mem::size_of::<f32>()
     }
