@@ -18,6 +18,9 @@
 //! cell holds about twenty triangles of which the packet's few lanes meet only some). It
 //! screens a whole cell's ids at once ([`PacketSink::candidates`]), without a branch per id;
 //! a declined object stays out of the mailbox, so it is offered again in any later slice.
+//! Along the dominant axis the footprint spans the slice, which every object listed in its
+//! cells meets, so a sink need compare only the two cross axes ([`Footprint::cross`]; the
+//! structure-of-arrays triangles then read six of their nine coordinate columns).
 
 // Lane loops index several parallel lane arrays by the same lane number.
 #![allow(clippy::needless_range_loop)]

@@ -102,8 +102,8 @@ fn a_prepared_packet_is_the_prepared_rays_lane_for_lane() {
             );
             let mut common = None;
             let mut agree = true;
-            for i in 0..16 {
-                if !live[i] {
+            for (i, &on) in live.iter().enumerate() {
+                if !on {
                     assert_eq!(bits(&w.ray(i)), ([0; 3], [0; 3], [0; 3]), "dead lane {i} is zero");
                     continue;
                 }
