@@ -304,6 +304,19 @@ pub fn nearest_in_block<const N: usize>(
     best
 }
 
+/// Coordinate `k` (0, 1 or 2) of `v` by selection, not indexing, so that a lane-wise loop keeps
+/// its lanes in vector registers.
+#[inline(always)]
+fn select(v: [f32; 3], k: u32) -> f32 {
+    if k == 0 {
+        v[0]
+    } else if k == 1 {
+        v[1]
+    } else {
+        v[2]
+    }
+}
+
 /// A packet prepared for watertight triangle tests: each lane's axis permutation, origin in
 /// its permuted axes and shear constants, and the permutation all live lanes share when they
 /// do (the common case, which needs no per-lane selection of vertex coordinates).
@@ -341,16 +354,7 @@ impl<const N: usize> WatertightPacket<N> {
             sy: [0.0; N],
             sz: [0.0; N],
         };
-        // Coordinate `k` of a lane's vector, by selection (indexing would leave the vectors).
-        let pick = |v: [f32; 3], k: u32| {
-            if k == 0 {
-                v[0]
-            } else if k == 1 {
-                v[1]
-            } else {
-                v[2]
-            }
-        };
+        let pick = select;
         // A lane's permutation is fixed by `kz` and the sign of `d_kz`: `2·kz + negative`.
         let mut code = [0u32; N];
         for i in 0..N {
@@ -426,16 +430,7 @@ pub fn triangle_lanes<const N: usize>(
         }
         None => {
             let v = [v0, v1, v2];
-            // Selections, not indexing, so the lanes stay in vector registers.
-            let pick = |a: Vec3, k: u32| {
-                if k == 0 {
-                    a.x
-                } else if k == 1 {
-                    a.y
-                } else {
-                    a.z
-                }
-            };
+            let pick = |a: Vec3, k: u32| select(a.to_array(), k);
             lanes_with(v, w, live, t_min, bound, record, |j, i| {
                 [pick(v[j], w.perm[0][i]), pick(v[j], w.perm[1][i]), pick(v[j], w.perm[2][i])]
             })

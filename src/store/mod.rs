@@ -190,22 +190,35 @@ pub trait TriangleLayout: Send + Sync + Sized + std::fmt::Debug + 'static {
     #[inline(always)]
     fn screen(&self, ids: &[u32], footprint: &Footprint) -> u64 {
         let [u, v] = footprint.cross;
-        let (lo, hi) = (footprint.bounds.min.to_array(), footprint.bounds.max.to_array());
-        let mut mask = 0u64;
-        for (k, &id) in ids.iter().enumerate() {
+        screen_by(ids, footprint, |id| {
             let [a, b, c] = self.vertices(id).map(|p| p.to_array());
-            let meets =
-                spans_meet([a[u], b[u], c[u]], lo[u], hi[u]) & spans_meet([a[v], b[v], c[v]], lo[v], hi[v]);
-            mask |= u64::from(meets) << k;
-        }
-        mask
+            ([a[u], b[u], c[u]], [a[v], b[v], c[v]])
+        })
     }
+}
+
+/// [`TriangleLayout::screen`] with each triangle's three coordinates on the two cross axes
+/// given by `coordinates(id)`: the mask, one bit per id, without a branch per triangle.
+#[inline(always)]
+pub fn screen_by(
+    ids: &[u32],
+    footprint: &Footprint,
+    coordinates: impl Fn(u32) -> ([f32; 3], [f32; 3]),
+) -> u64 {
+    let [u, v] = footprint.cross;
+    let (lo, hi) = (footprint.bounds.min.to_array(), footprint.bounds.max.to_array());
+    let mut mask = 0u64;
+    for (k, &id) in ids.iter().enumerate() {
+        let (cu, cv) = coordinates(id);
+        mask |= u64::from(spans_meet(cu, lo[u], hi[u]) & spans_meet(cv, lo[v], hi[v])) << k;
+    }
+    mask
 }
 
 /// Whether the span of three coordinates meets `[lo, hi]`: their smallest is at most `hi` and
 /// their largest at least `lo` (what a box overlap compares on one axis).
 #[inline(always)]
-pub fn spans_meet([a, b, c]: [f32; 3], lo: f32, hi: f32) -> bool {
+fn spans_meet([a, b, c]: [f32; 3], lo: f32, hi: f32) -> bool {
     // Compare-selects, not `f32::min` (NaN handling a mesh's finite vertices never need).
     let min = |x: f32, y: f32| if x < y { x } else { y };
     let max = |x: f32, y: f32| if x > y { x } else { y };

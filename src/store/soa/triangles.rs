@@ -6,7 +6,7 @@ use crate::accel::packet::Footprint;
 use crate::geom::mesh::MeshData;
 use crate::geom::triangle::{self, TriangleHit, WatertightRay};
 use crate::math::Vec3;
-use crate::store::{spans_meet, TriangleLayout};
+use crate::store::{screen_by, TriangleLayout};
 
 /// Triangles as nine coordinate arrays.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -56,16 +56,8 @@ impl TriangleLayout for SoaTriangles {
     #[inline(always)]
     fn screen(&self, ids: &[u32], footprint: &Footprint) -> u64 {
         let [u, v] = footprint.cross;
-        let (lo, hi) = (footprint.bounds.min.to_array(), footprint.bounds.max.to_array());
         let us = [self.v0.axis(u), self.v1.axis(u), self.v2.axis(u)];
         let vs = [self.v0.axis(v), self.v1.axis(v), self.v2.axis(v)];
-        let mut mask = 0u64;
-        for (k, &id) in ids.iter().enumerate() {
-            let i = id as usize;
-            let meets =
-                spans_meet(us.map(|c| c[i]), lo[u], hi[u]) & spans_meet(vs.map(|c| c[i]), lo[v], hi[v]);
-            mask |= u64::from(meets) << k;
-        }
-        mask
+        screen_by(ids, footprint, |id| (us.map(|c| c[id as usize]), vs.map(|c| c[id as usize])))
     }
 }
