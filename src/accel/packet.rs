@@ -72,9 +72,6 @@ const MARGIN_RELATIVE: f32 = 8.0 * f32::EPSILON;
 /// lanes walk alone (a single ray crosses one to three cells per slice).
 const CELLS_PER_LANE: i64 = 3;
 
-/// Most cells of a slice's rectangle whose id ranges are read before any is searched.
-const HELD: usize = 64;
-
 /// Size of the direct-mapped mailbox that keeps a walk from testing an object twice.
 const MAILBOX: usize = 64;
 
@@ -129,36 +126,6 @@ pub(crate) fn extent<const N: usize>(mut lo: [f32; N], mut hi: [f32; N]) -> (f32
         width = half;
     }
     (lo[0], hi[0])
-}
-
-/// Hands the objects of the cells whose id ranges are `held` to `sink`, cell by cell in order:
-/// each cell's ids screened against `footprint`, each candidate visited with the `walking`
-/// lanes unless the mailbox says it already was. `cells` counts the cells.
-#[inline(always)]
-fn search<const N: usize, K: PacketSink<N>>(
-    grid: &UniformGrid,
-    held: &[(u32, u32)],
-    sink: &mut K,
-    footprint: &Footprint,
-    mail: &mut [u32; MAILBOX],
-    walking: &[bool; N],
-    cells: &mut u32,
-) {
-    for &(from, to) in held {
-        *cells += 1;
-        for ids in grid.prim_ids[from as usize..to as usize].chunks(SCREEN) {
-            let mut todo = sink.candidates(ids, footprint);
-            while todo != 0 {
-                let id = ids[todo.trailing_zeros() as usize];
-                todo &= todo - 1;
-                let slot = &mut mail[id as usize % MAILBOX];
-                if *slot != id {
-                    sink.visit(id, walking);
-                    *slot = id;
-                }
-            }
-        }
-    }
 }
 
 /// A packet's lanes in the frame of one walk: the dominant axis `k` and the cross axes `u`, `v`.
@@ -352,7 +319,6 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
             (hi, lo)
         }
     };
-    let mut held = [(0u32, 0u32); HELD];
     let mut walking = inside;
     let mut mail = [u32::MAX; MAILBOX];
     loop {
@@ -364,39 +330,33 @@ pub fn coherent_walk<const N: usize, K: PacketSink<N>>(
                 return Walk::GaveUp(walking);
             }
             let mut clearance = u8::MAX;
-            // The rectangle's cells that hold ids first, then their search, in the same order
-            // (the same visits). Their skip distances, id ranges and first ids are loads
-            // independent of one another, all under way before the first cell is screened;
-            // read cell by cell, each cell's chain of loads (skip distance, id range, ids, the
-            // objects' data) waited behind the previous cell's tests, and a mesh packet's time
-            // is mostly such waits. `black_box` keeps the first ids' loads, whose values serve
-            // only to start them early.
-            let mut count = 0;
-            let mut first_ids = 0u32;
             for cv in r.v[0]..=r.v[1] {
                 for cu in r.u[0]..=r.u[1] {
-                    let cell = (s * sk + cu * su + cv * sv) as usize;
-                    let skip = grid.skip.get(cell).copied().unwrap_or(0);
+                    let cell = (s * sk + cu * su + cv * sv) as u32;
+                    let skip = grid.skip.get(cell as usize).copied().unwrap_or(0);
                     clearance = clearance.min(skip);
                     if skip > 0 {
                         continue;
                     }
-                    let (from, to) = (grid.cell_start[cell], grid.cell_start[cell + 1]);
-                    if from == to {
+                    let prims = grid.cell_prims(cell);
+                    if prims.is_empty() {
                         continue;
                     }
-                    if count == HELD {
-                        // Only packets wider than `HELD / CELLS_PER_LANE` lanes get here.
-                        search(grid, &held, sink, &r.footprint, &mut mail, &walking, cells);
-                        count = 0;
+                    *cells += 1;
+                    for ids in prims.chunks(SCREEN) {
+                        let mut todo = sink.candidates(ids, &r.footprint);
+                        while todo != 0 {
+                            let id = ids[todo.trailing_zeros() as usize];
+                            todo &= todo - 1;
+                            let slot = &mut mail[id as usize % MAILBOX];
+                            if *slot != id {
+                                sink.visit(id, &walking);
+                                *slot = id;
+                            }
+                        }
                     }
-                    first_ids ^= grid.prim_ids[from as usize];
-                    held[count] = (from, to);
-                    count += 1;
                 }
             }
-            std::hint::black_box(first_ids);
-            search(grid, &held[..count], sink, &r.footprint, &mut mail, &walking, cells);
             // Every cell within `clearance − 1` of the rectangle is empty: jump the slices
             // ahead whose rectangle stays inside that box.
             let reach = i64::from(clearance) - 1;
