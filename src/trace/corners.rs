@@ -1,8 +1,6 @@
 //! Adaptive supersampling's renderer: the pixel corners of the whole image first, then each
 //! pixel subdivided where its corners disagree ([`crate::sample::adaptive`]).
 
-use std::collections::HashMap;
-
 use rayon::prelude::*;
 
 use super::camera_samples::{packet_of, stratum_time, trace_camera_ray};
@@ -15,7 +13,9 @@ use super::settings::RenderSettings;
 use super::stats::{AdaptiveCounts, RayCounts};
 use super::tiles::{assemble, saturate, Assembled, TileResult, TILE};
 use crate::math::Vec3;
-use crate::sample::adaptive::{refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint, PointSample};
+use crate::sample::adaptive::{
+    refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint, PointCache, PointSample,
+};
 use crate::sample::dims;
 use crate::sample::pattern::{disk_point, disk_point_in, strata};
 use crate::sample::rng::{permute, Dimension, SampleKey};
@@ -38,11 +38,10 @@ pub(super) fn render_adaptive<S: PrimitiveStore>(
     let (w, h) = (settings.width, settings.height);
     let res = adaptive.resolution();
     let packets = lens_packets(scene, settings, want_cost);
-    let point = |p: LatticePoint, rays: &mut RayCounts| {
-        crate::simd::with_single_ray_level(settings.simd, || {
-            lattice_sample(scene, settings, res, p, packets, rays)
-        })
-    };
+    let point =
+        |p: LatticePoint, rays: &mut RayCounts| lattice_sample(scene, settings, res, p, packets, rays);
+    // Each row and tile runs with this thread's single-ray kernels at the frame's level.
+    let at_level = |work: &mut dyn FnMut()| crate::simd::with_single_ray_level(settings.simd, work);
 
     // Pass 1: the corner lattice, rows in parallel, with each corner's ray count.
     let rows: Vec<(Vec<PointSample>, Vec<u32>, RayCounts)> = (0..=h)
@@ -50,14 +49,14 @@ pub(super) fn render_adaptive<S: PrimitiveStore>(
         .map(|cy| {
             let mut rays = RayCounts::default();
             let mut costs = Vec::with_capacity(w as usize + 1);
-            let row = (0..=w)
-                .map(|cx| {
+            let mut row = Vec::with_capacity(w as usize + 1);
+            at_level(&mut || {
+                for cx in 0..=w {
                     let before = rays.total();
-                    let c = point(LatticePoint { x: cx * res, y: cy * res }, &mut rays);
+                    row.push(point(LatticePoint { x: cx * res, y: cy * res }, &mut rays));
                     costs.push(saturate(rays.total() - before));
-                    c
-                })
-                .collect();
+                }
+            });
             (row, costs, rays)
         })
         .collect();
@@ -71,23 +70,27 @@ pub(super) fn render_adaptive<S: PrimitiveStore>(
             let (x0, y0) = (tile % tiles_x * TILE, tile / tiles_x * TILE);
             let mut rays = RayCounts::default();
             let mut stats = AdaptiveStats::default();
-            let mut cache = HashMap::new();
+            let mut cache = PointCache::default();
             let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
             let mut costs = Vec::new();
             let mut dropped = DropTally::default();
-            for y in y0..(y0 + TILE).min(h) {
-                for x in x0..(x0 + TILE).min(w) {
-                    let corners = [corner(x, y), corner(x + 1, y), corner(x, y + 1), corner(x + 1, y + 1)];
-                    let before = rays.total();
-                    let dropped_before = stats.dropped;
-                    let mut trace = |p: LatticePoint| point(p, &mut rays);
-                    pixels.push(refine_pixel(x, y, corners, adaptive, &mut cache, &mut trace, &mut stats));
-                    dropped.record(y * w + x, saturate(stats.dropped - dropped_before));
-                    if want_cost {
-                        costs.push(saturate(rays.total() - before));
+            at_level(&mut || {
+                for y in y0..(y0 + TILE).min(h) {
+                    for x in x0..(x0 + TILE).min(w) {
+                        let corners =
+                            [corner(x, y), corner(x + 1, y), corner(x, y + 1), corner(x + 1, y + 1)];
+                        let before = rays.total();
+                        let dropped_before = stats.dropped;
+                        let mut trace = |p: LatticePoint| point(p, &mut rays);
+                        pixels
+                            .push(refine_pixel(x, y, corners, adaptive, &mut cache, &mut trace, &mut stats));
+                        dropped.record(y * w + x, saturate(stats.dropped - dropped_before));
+                        if want_cost {
+                            costs.push(saturate(rays.total() - before));
+                        }
                     }
                 }
-            }
+            });
             tile_done();
             ((pixels, costs, rays, dropped), stats)
         })
@@ -150,10 +153,17 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
     // The scene's camera-samples rule keeps lens × time samples within 32 bits.
     let m = times.saturating_mul(lenses);
     // The orders' seeds take an index no sample's draw uses (those are `PIXEL_PATTERNS - 2j`).
-    let (times_dim, lens_dim) = (Dimension::new(&key, dims::TIME), Dimension::new(&key, dims::LENS));
-    let (order, lens_order) =
-        (times_dim.hash(dims::PIXEL_PATTERNS - 1), lens_dim.hash(dims::PIXEL_PATTERNS - 1));
-    let lens_strata = strata(m);
+    // A point of one sample needs neither order (the one permutation of one element is the
+    // identity) nor strata: most points of a pinhole render where nothing moves.
+    // Hashed where they are needed: a pinhole point where nothing moves draws from neither.
+    let times_dim = || Dimension::new(&key, dims::TIME);
+    let lens_dim = || Dimension::new(&key, dims::LENS);
+    let (order, lens_order, lens_strata) = match m {
+        1 => (0, 0, (1, 1)),
+        _ => {
+            (times_dim().hash(dims::PIXEL_PATTERNS - 1), lens_dim().hash(dims::PIXEL_PATTERNS - 1), strata(m))
+        }
+    };
     // Sample `j`'s ray, key and time, counted as a camera or lens ray.
     let sample = |j: u32, rays: &mut RayCounts| {
         // Sample 0 keeps the point's own key and draws; the others get keys of their own.
@@ -163,7 +173,7 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
                 rays.timed += 1;
                 let k = permute(j, m, order);
                 // `uniform(key, TIME, index)`: the first of the point's pair.
-                let u = times_dim.uniform2(index).x;
+                let u = times_dim().uniform2(index).x;
                 stratum_time(settings.time.pattern, k, m, u)
             }
             None => 0.0,
@@ -171,7 +181,7 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
         let cam = scene.camera_at(time);
         let ray = if cam.has_lens() {
             rays.lens += 1;
-            let u = lens_dim.uniform2(index);
+            let u = lens_dim().uniform2(index);
             let lens = match lenses {
                 // One lens point: anywhere on the lens.
                 1 => disk_point(Pattern::Random, 1, 0, u),
@@ -220,7 +230,10 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
                 let (ray, camera, time) = sample(j, rays);
                 let colour = trace_camera_ray(scene, settings, &ray, camera, time, rays);
                 mean.add(colour);
-                spread.add(colour);
+                // One sample has no spread.
+                if m > 1 {
+                    spread.add(colour);
+                }
             }
         }
     }

@@ -176,6 +176,7 @@ impl CameraSample {
 impl<'a> PathContext<'a> {
     /// The context of the path of `camera` under `settings`.
     pub fn new(settings: &RenderSettings, camera: CameraSample, rays: &'a mut RayCounts) -> Self {
+        let level = settings.simd.resolve();
         Self {
             max_depth: settings.max_depth,
             min_contribution: settings.min_contribution,
@@ -184,7 +185,7 @@ impl<'a> PathContext<'a> {
             camera: CameraSample { spp: camera.spp.max(1), ..camera },
             budget: RayBudget::new(settings.max_secondary_rays),
             rays,
-            packets: settings.simd.packets().then(|| settings.simd.resolve()),
+            packets: (level != crate::simd::SimdLevel::Scalar).then_some(level),
             shadow_hint: None,
             time: 0.0,
         }
