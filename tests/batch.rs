@@ -135,8 +135,10 @@ fn killing_a_render_at_random_moments_never_leaves_a_partial_frame_and_resume_co
     let big = ["--width", "160", "--height", "90"];
     let started = Instant::now();
     ok(animate(dir, "reference", "0..=5", &big));
-    // Kill points spread over one uninterrupted run's duration.
-    let span = started.elapsed().as_micros().max(2_000) as u64;
+    // Kill points spread over one uninterrupted run's duration. That run may have been slowed
+    // by other tests sharing the cores: a kill that finds its run already finished shortens the
+    // span to its own wait (an upper bound on a run's length), so most kills still land mid-run.
+    let mut span = started.elapsed().as_micros().max(2_000) as u64;
     let reference = dir.join("reference");
     let mut rng = SplitMix(20261123);
     let (mut kills_mid_run, mut frames_left) = (0, Vec::new());
@@ -144,9 +146,12 @@ fn killing_a_render_at_random_moments_never_leaves_a_partial_frame_and_resume_co
         let out = format!("killed{attempt}");
         let mut child =
             animate(dir, &out, "0..=5", &big).stdout(Stdio::null()).stderr(Stdio::null()).spawn().unwrap();
-        std::thread::sleep(Duration::from_micros(rng.next() % span));
+        let wait = rng.next() % span;
+        std::thread::sleep(Duration::from_micros(wait));
         if child.try_wait().unwrap().is_none() {
             kills_mid_run += 1;
+        } else {
+            span = span.min(wait.max(2_000));
         }
         let _ = child.kill();
         child.wait().unwrap();
