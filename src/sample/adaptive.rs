@@ -213,9 +213,8 @@ pub type PointCache<P> = HashMap<LatticePoint, P, BuildHasherDefault<PointHasher
 
 /// Hashes a [`LatticePoint`] with one rotate, xor and multiply per coordinate (the Fx hash of
 /// rustc). The standard map's SipHash resists keys chosen to collide, which lattice points, the
-/// renderer's own, are not, and cost more than the rest of a cache lookup: a fifth of an
-/// adaptive render's refinement. Only lookups depend on it, never an order, so the image does
-/// not.
+/// renderer's own, are not; it cost 3 % of `scenes/effects_adaptive.ron`'s instructions. Only
+/// lookups depend on the hash, never an order, so the image does not.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct PointHasher(u64);
 

@@ -153,9 +153,9 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
     // The scene's camera-samples rule keeps lens × time samples within 32 bits.
     let m = times.saturating_mul(lenses);
     // The orders' seeds take an index no sample's draw uses (those are `PIXEL_PATTERNS - 2j`).
-    // A point of one sample needs neither order (the one permutation of one element is the
-    // identity) nor strata: most points of a pinhole render where nothing moves.
-    // Hashed where they are needed: a pinhole point where nothing moves draws from neither.
+    // The dimensions are hashed only where they are drawn from, and a point of one sample (every
+    // point of a pinhole render where nothing moves) needs neither order (the one permutation of
+    // one element is the identity) nor strata.
     let times_dim = || Dimension::new(&key, dims::TIME);
     let lens_dim = || Dimension::new(&key, dims::LENS);
     let (order, lens_order, lens_strata) = match m {
