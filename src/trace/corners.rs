@@ -152,28 +152,29 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
     };
     // The scene's camera-samples rule keeps lens × time samples within 32 bits.
     let m = times.saturating_mul(lenses);
-    // The orders' seeds take an index no sample's draw uses (those are `PIXEL_PATTERNS - 2j`).
-    // The dimensions are hashed only where they are drawn from, and a point of one sample (every
-    // point of a pinhole render where nothing moves) needs neither order (the one permutation of
-    // one element is the identity) nor strata.
-    let times_dim = || Dimension::new(&key, dims::TIME);
-    let lens_dim = || Dimension::new(&key, dims::LENS);
-    let (order, lens_order, lens_strata) = match m {
-        1 => (0, 0, (1, 1)),
-        _ => {
-            (times_dim().hash(dims::PIXEL_PATTERNS - 1), lens_dim().hash(dims::PIXEL_PATTERNS - 1), strata(m))
-        }
+    // Each dimension is hashed once, and only where it is drawn from. The orders' seeds take an
+    // index no sample's draw uses (those are `PIXEL_PATTERNS - 2j`); a point of one sample needs
+    // no order (the one permutation of one element is the identity).
+    let times_dim = scene.motion.as_ref().map(|_| Dimension::new(&key, dims::TIME));
+    let lens_dim = scene.camera.has_lens().then(|| Dimension::new(&key, dims::LENS));
+    let order = match times_dim {
+        Some(d) if m > 1 => d.hash(dims::PIXEL_PATTERNS - 1),
+        _ => 0,
+    };
+    let (lens_order, lens_strata) = match lens_dim {
+        Some(d) if lenses > 1 => (d.hash(dims::PIXEL_PATTERNS - 1), strata(m)),
+        _ => (0, (1, 1)),
     };
     // Sample `j`'s ray, key and time, counted as a camera or lens ray.
     let sample = |j: u32, rays: &mut RayCounts| {
         // Sample 0 keeps the point's own key and draws; the others get keys of their own.
         let index = dims::PIXEL_PATTERNS - 2 * j;
-        let time = match scene.motion {
-            Some(_) => {
+        let time = match times_dim {
+            Some(times_dim) => {
                 rays.timed += 1;
                 let k = permute(j, m, order);
                 // `uniform(key, TIME, index)`: the first of the point's pair.
-                let u = times_dim().uniform2(index).x;
+                let u = times_dim.uniform2(index).x;
                 stratum_time(settings.time.pattern, k, m, u)
             }
             None => 0.0,
@@ -181,7 +182,7 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
         let cam = scene.camera_at(time);
         let ray = if cam.has_lens() {
             rays.lens += 1;
-            let u = lens_dim().uniform2(index);
+            let u = lens_dim.unwrap_or_else(|| Dimension::new(&key, dims::LENS)).uniform2(index);
             let lens = match lenses {
                 // One lens point: anywhere on the lens.
                 1 => disk_point(Pattern::Random, 1, 0, u),
