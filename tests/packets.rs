@@ -420,7 +420,7 @@ fn render_adjusted(
 }
 
 /// A lens camera's samples go in per-pixel packets (up to 16 at a time) where a pixel takes
-/// at least 4, and in per-point packets where an adaptive render's lattice point does: whole
+/// at least 8, and in per-point packets where an adaptive render's lattice point does: whole
 /// packets, a last partial one, counts below the packet minimum, lens samples under several AA
 /// positions, and adaptive renders (corners with all of a pixel's lens samples, deeper points
 /// with their share) and noise-driven renders (a pixel's pending samples together) must all
@@ -475,6 +475,64 @@ fn lens_packets_give_the_single_rays_bits_for_any_sample_count() {
                 assert_eq!(rays.lens, want_rays.lens, "{case}");
                 assert_eq!(rays.area_shadow, want_rays.area_shadow, "{case}");
                 assert_eq!(rays.reflection + rays.refraction, want_rays.reflection + want_rays.refraction);
+            }
+        }
+    }
+}
+
+/// An adaptive render's pixel corners under a pinhole camera go in packets of 4 × 4 corners
+/// (bands of four corner rows; an odd width and height leave partial blocks and a partial last
+/// band): on scenes lit by point and directional lights, an area light, mirrors and glass, and
+/// a mesh, at several depths and thresholds, every path must give the single rays' bits and
+/// ray counts, and the refinement figures must not change.
+#[test]
+fn adaptive_corner_packets_give_the_single_rays_bits() {
+    use penumbra::sample::adaptive::AdaptiveSettings;
+    let scenes = ["effects_adaptive", "effects_soft_shadows", "spheres", "bunny", "effects_aa"];
+    for (name, width, max_depth, threshold) in [
+        (scenes[0], 37, 3, 0.05),
+        (scenes[1], 29, 2, 0.02),
+        (scenes[2], 33, 1, 0.1),
+        (scenes[3], 30, 2, 0.05),
+        (scenes[4], 26, 4, 0.0),
+    ] {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("scenes/{name}.ron"));
+        let adjust = |s: &mut penumbra::trace::RenderSettings| {
+            s.adaptive = Some(AdaptiveSettings { threshold, max_depth });
+            s.noise = None;
+        };
+        let render = |simd: SimdLevel| {
+            let desc = penumbra::scene::load_scene(&path).expect("shipped scene loads");
+            let mut world: penumbra::world::SceneWorld = penumbra::scene::spawn_world(&desc);
+            let snapshot = world.update();
+            let base = world.render_settings();
+            assert!(!snapshot.camera.has_lens(), "{name} is a pinhole scene");
+            let height = (width * base.height / base.width.max(1)).max(1) | 1;
+            let mut settings = penumbra::trace::RenderSettings { width, height, simd, ..base };
+            adjust(&mut settings);
+            let (film, stats) = penumbra::trace::render(&snapshot, &settings);
+            let bits: Vec<u32> = film.pixels.iter().flat_map(|c| c.to_array().map(f32::to_bits)).collect();
+            (bits, stats.rays, stats.adaptive)
+        };
+        let (want, want_rays, want_adaptive) = render(SimdLevel::Scalar);
+        assert!(want_adaptive.subdivisions > 0 || max_depth == 0, "{name}: nothing was refined");
+        for level in [SimdLevel::Baseline, SimdLevel::Avx2, SimdLevel::Avx512] {
+            if level.available() {
+                let (got, rays, adaptive) = render(level);
+                let differ = want.iter().zip(&got).filter(|(a, b)| a != b).count();
+                assert!(differ == 0, "{name}: {differ} channels differ between scalar and {level}");
+                assert_eq!(
+                    (rays.camera, rays.shadow, rays.area_shadow, rays.reflection, rays.refraction),
+                    (
+                        want_rays.camera,
+                        want_rays.shadow,
+                        want_rays.area_shadow,
+                        want_rays.reflection,
+                        want_rays.refraction
+                    ),
+                    "{name} at {level}"
+                );
+                assert_eq!(adaptive, want_adaptive, "{name} at {level}");
             }
         }
     }

@@ -5,14 +5,14 @@ use rayon::prelude::*;
 
 use super::camera_samples::{packet_of, stratum_time, trace_camera_ray};
 use super::finite::{DropTally, SampleMean};
-use super::packet::{LANES, MIN_LANES};
-use super::packet_tile::{lens_packets, shade_packet};
+use super::packet::LANES;
+use super::packet_tile::{camera_packets, lens_packets, shade_packet, BLOCK, MIN_LENS_LANES};
 use super::path::CameraSample;
 use super::scene::TraceScene;
 use super::settings::RenderSettings;
 use super::stats::{AdaptiveCounts, RayCounts};
 use super::tiles::{assemble, saturate, Assembled, TileResult, TILE};
-use crate::math::Vec3;
+use crate::math::{Vec2, Vec3};
 use crate::sample::adaptive::{
     refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint, PointCache, PointSample,
 };
@@ -43,21 +43,35 @@ pub(super) fn render_adaptive<S: PrimitiveStore>(
     // Each row and tile runs with this thread's single-ray kernels at the frame's level.
     let at_level = |work: &mut dyn FnMut()| crate::simd::with_single_ray_level(settings.simd, work);
 
-    // Pass 1: the corner lattice, rows in parallel, with each corner's ray count.
+    // Pass 1: the corner lattice, bands of rows in parallel, with each corner's ray count. A
+    // pinhole camera's corners are one camera ray each, as regular as a fixed render's pixels:
+    // they go in packets of [`BLOCK`] corners, bands of `BLOCK[1]` rows (no per-corner counts,
+    // which only the cost image wants and which keeps single rays).
+    let corner_packets = camera_packets(scene, settings, want_cost);
+    let band = corner_packets.map_or(1, |_| BLOCK[1]);
     let rows: Vec<(Vec<PointSample>, Vec<u32>, RayCounts)> = (0..=h)
+        .step_by(band as usize)
+        .collect::<Vec<_>>()
         .into_par_iter()
-        .map(|cy| {
+        .flat_map_iter(|y0| {
             let mut rays = RayCounts::default();
-            let mut costs = Vec::with_capacity(w as usize + 1);
-            let mut row = Vec::with_capacity(w as usize + 1);
-            at_level(&mut || {
-                for cx in 0..=w {
-                    let before = rays.total();
-                    row.push(point(LatticePoint { x: cx * res, y: cy * res }, &mut rays));
-                    costs.push(saturate(rays.total() - before));
+            let y1 = (y0 + band).min(h + 1);
+            let mut rows: Vec<(Vec<PointSample>, Vec<u32>)> =
+                (y0..y1).map(|_| (Vec::with_capacity(w as usize + 1), Vec::new())).collect();
+            at_level(&mut || match corner_packets {
+                Some(level) => corner_band(scene, settings, res, level, y0..y1, &mut rows, &mut rays),
+                None => {
+                    let (row, costs) = &mut rows[0];
+                    for cx in 0..=w {
+                        let before = rays.total();
+                        row.push(point(LatticePoint { x: cx * res, y: y0 * res }, &mut rays));
+                        costs.push(saturate(rays.total() - before));
+                    }
                 }
             });
-            (row, costs, rays)
+            // The band's rays count with its first row.
+            let mut counts = Some(rays);
+            rows.into_iter().map(move |(row, costs)| (row, costs, counts.take().unwrap_or_default()))
         })
         .collect();
     let corner = |cx: u32, cy: u32| rows[cy as usize].0[cx as usize];
@@ -124,7 +138,7 @@ pub(super) fn render_adaptive<S: PrimitiveStore>(
 ///
 /// With `packets` (a lens camera that does not move: [`lens_packets`]), a point's samples, which
 /// all pass through its image position and so converge on one point of the plane in focus, go
-/// in packets of up to [`LANES`] where there are at least [`MIN_LANES`] of them, each lane
+/// in packets of up to [`LANES`] where there are at least [`MIN_LENS_LANES`] of them, each lane
 /// shaded as its ray alone would be ([`shade_packet`]): the same bits.
 pub(super) fn lattice_sample<S: PrimitiveStore>(
     scene: &TraceScene<S>,
@@ -134,9 +148,7 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
     packets: Option<SimdLevel>,
     rays: &mut RayCounts,
 ) -> PointSample {
-    let id = u64::from(p.y) * (u64::from(settings.width) * u64::from(res) + 1) + u64::from(p.x);
-    let key =
-        SampleKey { seed: settings.seed, frame: settings.frame, pixel: id as u32, sample: (id >> 32) as u32 };
+    let key = point_key(settings, res, p);
     let (px, py) = (p.x as f32 / res as f32, p.y as f32 / res as f32);
     let level =
         res.trailing_zeros() - p.x.trailing_zeros().min(p.y.trailing_zeros()).min(res.trailing_zeros());
@@ -205,7 +217,7 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
     };
     let mut mean = SampleMean::default();
     let mut spread = Spread::default();
-    match packets.filter(|_| m as usize >= MIN_LANES) {
+    match packets.filter(|_| m as usize >= MIN_LENS_LANES) {
         Some(level) => {
             for first in (0..m).step_by(LANES) {
                 // Nothing moves where there are packets: every time is 0.
@@ -238,12 +250,70 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
             }
         }
     }
+    point_of(&mean, &spread, m)
+}
+
+/// The key of lattice point `p`'s stream (its first sample's): a pure function of the point.
+fn point_key(settings: &RenderSettings, res: u32, p: LatticePoint) -> SampleKey {
+    let id = u64::from(p.y) * (u64::from(settings.width) * u64::from(res) + 1) + u64::from(p.x);
+    SampleKey { seed: settings.seed, frame: settings.frame, pixel: id as u32, sample: (id >> 32) as u32 }
+}
+
+/// A point of `m` camera samples, from the `mean` and `spread` of those that were finite.
+fn point_of(mean: &SampleMean, spread: &Spread, m: u32) -> PointSample {
     // A point none of whose samples is finite is non-finite, so refinement drops and counts it.
     let colour = match mean.dropped() == m {
         true => Vec3::NAN,
         false => mean.mean(),
     };
     PointSample { colour, samples: mean.kept().max(1), spread: spread.variance() }
+}
+
+/// The pixel corners of rows `ys` (a band of at most `BLOCK[1]`) of a pinhole camera that does
+/// not move, traced in packets of [`BLOCK`] corners ([`shade_packet`], compiled for `level`) and
+/// pushed onto `rows` (one per row of the band) from left to right. A corner is one camera
+/// sample (its pixel's only one, [`CameraSample::single`]) whose ray, key and colour are those
+/// [`lattice_sample`] gives it: the same bits.
+fn corner_band<S: PrimitiveStore>(
+    scene: &TraceScene<S>,
+    settings: &RenderSettings,
+    res: u32,
+    level: SimdLevel,
+    ys: std::ops::Range<u32>,
+    rows: &mut [(Vec<PointSample>, Vec<u32>)],
+    rays: &mut RayCounts,
+) {
+    const { assert!((BLOCK[0] * BLOCK[1]) as usize == LANES) };
+    debug_assert!(!scene.camera.has_lens() && scene.motion.is_none());
+    let w = settings.width;
+    for x0 in (0..=w).step_by(BLOCK[0] as usize) {
+        let corner = |lane: usize| {
+            let (x, y) = (x0 + lane as u32 % BLOCK[0], ys.start + lane as u32 / BLOCK[0]);
+            (x <= w && ys.contains(&y)).then_some(LatticePoint { x: x * res, y: y * res })
+        };
+        let mut points = [Vec2::ZERO; LANES];
+        let mut cameras = [None; LANES];
+        for (lane, camera) in cameras.iter_mut().enumerate() {
+            if let Some(p) = corner(lane) {
+                points[lane] = Vec2::new(p.x as f32 / res as f32, p.y as f32 / res as f32);
+                *camera = Some(CameraSample::single(point_key(settings, res, p)));
+                rays.camera += 1;
+            }
+        }
+        let active = cameras.map(|c| c.is_some());
+        let packet = level.run(
+            #[inline(always)]
+            || scene.camera.pinhole_lanes(&points, &active, settings.width, settings.height),
+        );
+        let colours = shade_packet((scene, settings), level, &packet, &cameras, rays);
+        for (lane, colour) in colours.into_iter().enumerate() {
+            if let Some(colour) = colour {
+                let mut mean = SampleMean::default();
+                mean.add(colour);
+                rows[lane / BLOCK[0] as usize].0.push(point_of(&mean, &Spread::default(), 1));
+            }
+        }
+    }
 }
 
 /// The running per-channel variance of a point's finite samples (Welford's update, in `f64`).

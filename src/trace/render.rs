@@ -20,7 +20,6 @@ use std::time::Instant;
 use super::aov::first_hit_aovs;
 use super::camera_samples::{fixed_pixel, CameraSampler};
 use super::corners::render_adaptive;
-use super::packet::MIN_LANES;
 use super::packet_tile::{camera_packets, lens_packets, lens_tile, packet_tile};
 use super::scene::TraceScene;
 use super::settings::RenderSettings;
@@ -76,10 +75,11 @@ pub fn render_observed<S: PrimitiveStore>(
         }
         (None, None) => {
             let sampler = CameraSampler::new(scene, settings);
-            // Packets of pixel blocks for a pinhole, of each pixel's samples for a lens; single
-            // rays where neither applies (and for the cost AOV, which needs rays per pixel).
+            // Packets of pixel blocks for a pinhole, of each pixel's samples for a lens (made
+            // together, and traced alone where a pixel has too few); single rays where neither
+            // applies (and for the cost AOV, which needs rays per pixel).
             let packets = camera_packets(scene, settings, wanted.cost);
-            let lens = lens_packets(scene, settings, wanted.cost).filter(|_| sampler.n as usize >= MIN_LANES);
+            let lens = lens_packets(scene, settings, wanted.cost);
             let want_cost = wanted.cost;
             let tile = |area: [u32; 4], rays: &mut RayCounts, out: &mut TileOut| match (packets, lens) {
                 (Some(level), _) => packet_tile(&sampler, level, area, rays, out),
