@@ -132,10 +132,10 @@ pub(super) fn lens_tile<S: PrimitiveStore>(
 }
 
 /// Fewest lens samples of one pixel (or adaptive lattice point) worth tracing as a packet;
-/// fewer go as single rays ([`lens_tile`] still makes a pixel's samples together). A lens packet walks and tests all [`LANES`] lanes however few are
-/// active, and shades its hits through the packet path: measured on `flythrough` (1 thread,
-/// one binary), 6 samples ran 1.18× slower in packets than as single rays, 8 samples 1.06×,
-/// 12 samples 1.18× and 16 samples 1.31× faster, and `effects_dof` (16) 1.48× faster.
+/// fewer go as single rays ([`lens_tile`] still makes a pixel's samples together). A lens
+/// packet walks and tests all [`LANES`] lanes however few are active: measured on variants of
+/// `flythrough` (1 thread, one binary), packets ran 1.18× slower than single rays at 6
+/// samples, and 1.06×, 1.18× and 1.31× faster at 8, 12 and 16; `effects_dof` (16) 1.48× faster.
 pub(super) const MIN_LENS_LANES: usize = LANES / 2;
 
 /// The level a lens camera's samples are traced in packets at, where they are: `None` for
