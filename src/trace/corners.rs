@@ -149,7 +149,7 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
     rays: &mut RayCounts,
 ) -> PointSample {
     let key = point_key(settings, res, p);
-    let (px, py) = (p.x as f32 / res as f32, p.y as f32 / res as f32);
+    let Vec2 { x: px, y: py } = image_point(res, p);
     let level =
         res.trailing_zeros() - p.x.trailing_zeros().min(p.y.trailing_zeros()).min(res.trailing_zeros());
     let spp = 1u32 << (2 * level);
@@ -253,6 +253,14 @@ pub(super) fn lattice_sample<S: PrimitiveStore>(
     point_of(&mean, &spread, m)
 }
 
+/// Lattice point `p`'s image position in pixels, as its camera rays aim at it: one rounding per
+/// coordinate in `f32` (not [`LatticePoint::position`]'s `f64` quotient), shared by the single
+/// rays and the corner packets so that both aim at the same bits.
+#[inline]
+fn image_point(res: u32, p: LatticePoint) -> Vec2 {
+    Vec2::new(p.x as f32 / res as f32, p.y as f32 / res as f32)
+}
+
 /// The key of lattice point `p`'s stream (its first sample's): a pure function of the point.
 fn point_key(settings: &RenderSettings, res: u32, p: LatticePoint) -> SampleKey {
     let id = u64::from(p.y) * (u64::from(settings.width) * u64::from(res) + 1) + u64::from(p.x);
@@ -295,7 +303,7 @@ fn corner_band<S: PrimitiveStore>(
         let mut cameras = [None; LANES];
         for (lane, camera) in cameras.iter_mut().enumerate() {
             if let Some(p) = corner(lane) {
-                points[lane] = Vec2::new(p.x as f32 / res as f32, p.y as f32 / res as f32);
+                points[lane] = image_point(res, p);
                 *camera = Some(CameraSample::single(point_key(settings, res, p)));
                 rays.camera += 1;
             }
