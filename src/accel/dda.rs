@@ -54,7 +54,7 @@ pub struct GridWalk<'g> {
 
 impl<'g> GridWalk<'g> {
     /// Starts a walk of `ray` restricted to `[t_min, t_max]` and to the grid's bounds.
-    #[inline]
+    #[inline(always)]
     pub fn new(grid: &'g UniformGrid, ray: &Ray, t_min: f32, t_max: f32) -> Self {
         let inv_dir = ray.dir.recip();
         let mut walk = GridWalk {
@@ -104,7 +104,7 @@ impl<'g> GridWalk<'g> {
     /// [`GridWalk::new`], jumping across runs of empty cells with the grid's skip distances:
     /// only spans of cells that may hold objects (and some empty ones) are returned, in order.
     /// What a caller finds is the same as with [`GridWalk::new`]; it just visits fewer cells.
-    #[inline]
+    #[inline(always)]
     pub fn skipping(grid: &'g UniformGrid, ray: &Ray, t_min: f32, t_max: f32) -> Self {
         let mut walk = Self::new(grid, ray, t_min, t_max);
         walk.skip = &grid.skip;

@@ -155,7 +155,7 @@ impl UniformGrid {
     /// `plane(i) <= p < plane(i + 1)`, decided against the walls themselves so that it agrees
     /// with [`UniformGrid::cell_bounds`] and the DDA's crossings whatever the rounding of
     /// `(p - min) / size`.
-    #[inline]
+    #[inline(always)]
     pub fn cell_coords(&self, p: Vec3) -> [u32; 3] {
         let rel = ((p - self.bounds.min) * self.inv_cell_size).to_array();
         let p = p.to_array();

@@ -297,7 +297,7 @@ pub trait PrimitiveStore: Send + Sync + Sized + std::fmt::Debug + 'static {
     /// Unbounded object `i`, a plane `normal · p = offset`: `(normal, offset)`.
     fn unbounded_plane(&self, i: u32) -> (Vec3, f32);
     /// Hit with unbounded object `i` in `(t_min, t_max)`.
-    #[inline]
+    #[inline(always)]
     fn intersect_unbounded(&self, i: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
         let (normal, offset) = self.unbounded_plane(i);
         crate::geom::plane::intersect(normal, offset, ray, t_min, t_max)
