@@ -190,12 +190,19 @@ impl Iterator for GridWalk<'_> {
         }
         let cell = self.index as u32;
         // Axis of the nearest wall; ties go to the lowest axis (the next span is then empty).
-        let t = self.t_next;
+        // The crossings are read one by one: copying the array whole read the last step's
+        // 4-byte store with a wider load, which the CPU cannot forward (a stall on every step).
+        let t = [self.t_next[0], self.t_next[1], self.t_next[2]];
         let axis = nearest_wall(t);
+        let t_axis = match axis {
+            0 => t[0],
+            1 => t[1],
+            _ => t[2],
+        };
         let next = self.cell[axis] + self.step[axis];
-        let leaves = t[axis] >= self.t_end || next == self.out[axis];
+        let leaves = t_axis >= self.t_end || next == self.out[axis];
         // The last span ends exactly at the clip range; rounding never lets time run backwards.
-        let t_exit = if leaves { self.t_end } else { t[axis].max(self.t_enter) };
+        let t_exit = if leaves { self.t_end } else { t_axis.max(self.t_enter) };
         let span = CellSpan { cell, t_enter: self.t_enter, t_exit };
         if leaves {
             self.done = true;
