@@ -77,7 +77,7 @@ pub(crate) fn radiance_at<S: PrimitiveStore>(
         return scene.background;
     };
     let lit =
-        Lit::new(scene, &hit, ray, ShadingPoint::new(scene.surface(&hit, ray, ctx.time), ray.dir), ctx.time);
+        Lit::new(scene, &hit, ray, &ShadingPoint::new(scene.surface(&hit, ray, ctx.time), ray.dir), ctx.time);
     let direct = direct_light(scene, &lit.m, &lit.surface, -ray.dir, ctx);
     bounce(scene, ray, &hit, &lit, direct, depth, weight, ctx)
 }
@@ -102,17 +102,17 @@ impl Lit {
         scene: &TraceScene<S>,
         hit: &Hit,
         ray: &Ray,
-        shading: ShadingPoint,
+        shading: &ShadingPoint,
         time: f32,
     ) -> Self {
-        let ShadingPoint { sp, ns, above, .. } = shading;
+        let ShadingPoint { sp, ns, above, .. } = *shading;
         let material = scene.material(sp.material);
         let (m, bumped) = scene.shade_at(material, hit, sp.point, ns, time);
         // A bump may not tilt the normal away from the viewer. Untextured (`bumped` is `ns`),
         // `ns` is taken as it is: read back from `shade_at`'s result, its y and z came in one
         // load across the two stores that wrote them, a stall the CPU cannot forward.
         let ns = if !material.maps.is_empty() && bumped.dot(ray.dir) < 0.0 { bumped } else { ns };
-        Self { shading, m, surface: Surface { point: sp.point, normal: ns, above, eps: sp.error } }
+        Self { shading: *shading, m, surface: Surface { point: sp.point, normal: ns, above, eps: sp.error } }
     }
 
     /// The shares of reflected and transmitted light for `ray`.
@@ -363,7 +363,7 @@ mod tests {
             let Some(hit) = closest_hit_at(&scene, &ray, 0.0, f32::INFINITY, 0.0, &mut cost) else {
                 return Ok(());
             };
-            let mut lit = Lit::new(&scene, &hit, &ray, ShadingPoint::new(scene.surface(&hit, &ray, 0.0), ray.dir), 0.0);
+            let mut lit = Lit::new(&scene, &hit, &ray, &ShadingPoint::new(scene.surface(&hit, &ray, 0.0), ray.dir), 0.0);
             lit.m.kr = kr;
             lit.m.kt = Vec3::splat(kt);
             lit.m.fresnel = fresnel;

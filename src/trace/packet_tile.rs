@@ -209,7 +209,9 @@ pub(super) fn shade_packet<S: PrimitiveStore>(
                 return Some(seen);
             }
         }
-        let (Some(hit), Some(shading)) = (hit, surfaces[lane]) else {
+        // The shading point is read in place: a copy made here, read back at once with other
+        // widths, was a store the CPU could not forward.
+        let (Some(hit), Some(shading)) = (hit, &surfaces[lane]) else {
             rays.budget.record(0, 0);
             return Some(scene.background);
         };
