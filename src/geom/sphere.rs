@@ -155,8 +155,9 @@ fn intersect_f64(centre: Vec3, radius: f32, ray: &Ray, t_min: f32, t_max: f32) -
 /// `t` times the ray's length; the reprojected point is within `γ(5)·r` of the sphere, pbrt-v4's
 /// bound), then placed in the world, which adds half an ulp of its coordinates. Where rounding
 /// put the point on the centre (a sphere smaller than the float spacing of its coordinates),
-/// the normal falls back as [`normal`] explains and the bound is the whole radius.
-#[inline]
+/// the normal falls back as [`normal`] explains and the bound is the whole radius. Always
+/// inlined: the tuple returned through memory was read back with loads wider than its stores.
+#[inline(always)]
 pub fn surface_point(centre: Vec3, radius: f32, ray: &Ray, t: f32) -> (Vec3, Vec3, f32) {
     let p = ray.at(t);
     let v = p - centre;

@@ -77,7 +77,7 @@ pub fn direct_light<S: PrimitiveStore>(
     for (j, light) in scene.lights.iter().enumerate() {
         if light.is_area() {
             colour += area_light(scene, light, m, s, view, ctx);
-        } else if let Some(lit) = point_light(scene, light, (m, s, view), known(hint, j), ctx.time, ctx.rays)
+        } else if let Some(lit) = point_light(scene, light, (m, s, view), known(hint.as_ref(), j), ctx.time, ctx.rays)
         {
             colour += lit;
         }
@@ -87,13 +87,16 @@ pub fn direct_light<S: PrimitiveStore>(
 
 /// [`direct_light`] in a scene whose lights are all point, spot or directional lights (none
 /// sampled), at time 0: needs no path context. `hint` holds the shadow transmittances already
-/// traced in a packet; the other shadow rays are traced here.
+/// traced in a packet; the other shadow rays are traced here. Inlined into its one caller
+/// (a packet's lane), so `view` stays in registers: passed through memory, it was read with a
+/// wider load than the stores that had just written it, a stall the CPU cannot forward.
+#[inline(always)]
 pub(crate) fn point_lights<S: PrimitiveStore>(
     scene: &TraceScene<S>,
     m: &Material,
     s: &Surface,
     view: Vec3,
-    hint: Option<ShadowHint>,
+    hint: Option<&ShadowHint>,
     rays: &mut RayCounts,
 ) -> Vec3 {
     let mut colour = Vec3::ZERO;
@@ -108,7 +111,7 @@ pub(crate) fn point_lights<S: PrimitiveStore>(
 
 /// Light `j`'s shadow transmittance in `hint`, where it was traced in a packet.
 #[inline]
-fn known(hint: Option<ShadowHint>, j: usize) -> Option<Vec3> {
+fn known(hint: Option<&ShadowHint>, j: usize) -> Option<Vec3> {
     hint.and_then(|h| h.get(j).copied().flatten())
 }
 
