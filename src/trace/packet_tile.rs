@@ -217,7 +217,8 @@ pub(super) fn shade_packet<S: PrimitiveStore>(
         };
         let lit = Lit::new(scene, &hit, &ray, shading, 0.0);
         let view = -ray.dir;
-        let direct = point_lit.then(|| point_lights(scene, &lit.m, &lit.surface, view, hints[lane].as_ref(), rays));
+        let direct =
+            point_lit.then(|| point_lights(scene, &lit.m, &lit.surface, view, hints[lane].as_ref(), rays));
         if let Some(direct) =
             direct.filter(|_| !lit.bounces(&ray, 0, 1.0, settings.max_depth, settings.min_contribution))
         {

@@ -77,7 +77,8 @@ pub fn direct_light<S: PrimitiveStore>(
     for (j, light) in scene.lights.iter().enumerate() {
         if light.is_area() {
             colour += area_light(scene, light, m, s, view, ctx);
-        } else if let Some(lit) = point_light(scene, light, (m, s, view), known(hint.as_ref(), j), ctx.time, ctx.rays)
+        } else if let Some(lit) =
+            point_light(scene, light, (m, s, view), known(hint.as_ref(), j), ctx.time, ctx.rays)
         {
             colour += lit;
         }
