@@ -3,7 +3,7 @@
 //! Stored as the world-to-object map and the object-space corners; the slab test runs in
 //! object space, where an affine map preserves the ray parameter.
 
-use crate::math::{transform_error, Aabb, Affine3A, Ray, Vec3};
+use crate::math::{transform_error, Aabb, Affine3A, Ray, Vec3, UNIT_ROUNDOFF};
 
 /// Which face a box hit landed on, for the normal.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -169,8 +169,9 @@ pub fn world_normal(world_to_object: &Affine3A, local_normal: Vec3) -> Vec3 {
     world_to_object.matrix3.transpose().mul_vec3a(local_normal.into()).normalize().into()
 }
 
-/// The world hit point of `ray` at `t` on the face `local_normal` of the box, and a conservative
-/// bound on its distance from that face along the world normal.
+/// The world hit point of `ray` at `t` on the face `local_normal` of the box, a conservative
+/// bound on its distance from that face along the world normal, and the sum of the world
+/// normals of the adjacent faces the point lies on (zero away from edges and corners).
 ///
 /// The object-space point is put exactly on the face plane (`min` or `max` on the face's
 /// axis), then mapped to the world. What the box test will see of a ray leaving from there is
@@ -178,6 +179,13 @@ pub fn world_normal(world_to_object: &Affine3A, local_normal: Vec3) -> Vec3 {
 /// derived: the mapped-back point's distance from the face, plus the rounding of that map
 /// (twice: once for this measurement, once for the next ray's own), divided by how much one
 /// world unit along the normal moves the object-space coordinate.
+///
+/// On an edge or a corner, offsetting along the face's own normal is not enough: rounding the
+/// offset point moves it sideways by a few units of roundoff of its coordinates, which can put
+/// it just outside an adjacent face, where a ray sent into the box would enter it again a
+/// hair's breadth away. An adjacent face counts when the point, mapped back, lies within that
+/// sideways rounding of it (or beyond it); its normal joins the offset
+/// ([`crate::store::SurfacePoint::spawn`]) and the bound grows to cover its distance too.
 pub fn surface_point(
     world_to_object: &Affine3A,
     min: Vec3,
@@ -185,7 +193,7 @@ pub fn surface_point(
     local_normal: Vec3,
     ray: &Ray,
     t: f32,
-) -> (Vec3, f32) {
+) -> (Vec3, f32, Vec3) {
     let axis = if local_normal.x != 0.0 {
         0
     } else if local_normal.y != 0.0 {
@@ -199,9 +207,28 @@ pub fn surface_point(
     local[axis] = face;
     let point = world_to_object.inverse().transform_point3(local);
     let back = world_to_object.transform_point3(point);
-    let residual = (back[axis] - face).abs() + 2.0 * transform_error(world_to_object, point)[axis];
+    let rounding = 2.0 * transform_error(world_to_object, point);
+    let residual = (back[axis] - face).abs() + rounding[axis];
     let row = world_to_object.matrix3.row(axis).length();
-    (point, residual / row)
+    let mut error = residual / row;
+    // How far sideways the offset point's rounding can move it (two units of roundoff of each
+    // coordinate from `offset_origin`'s spare, half a unit from the sum), with room to spare.
+    let sideways = 8.0 * UNIT_ROUNDOFF * point.abs().max_element();
+    let mut edge = Vec3::ZERO;
+    for k in [(axis + 1) % 3, (axis + 2) % 3] {
+        let row = world_to_object.matrix3.row(k).length();
+        for (bound, side) in [(min[k], -1.0), (max[k], 1.0)] {
+            // How far beyond the face plane (negative: inside) the box test may see the point.
+            let beyond = ((back[k] - bound) * side + rounding[k]) / row;
+            if beyond > -sideways {
+                let mut normal = Vec3::ZERO;
+                normal[k] = side;
+                edge += world_normal(world_to_object, normal);
+                error = error.max(beyond.max(0.0) + sideways);
+            }
+        }
+    }
+    (point, error, edge)
 }
 
 /// World bounds of the placed box.

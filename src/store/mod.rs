@@ -136,14 +136,19 @@ pub struct SurfacePoint {
     /// from the rounding of its arithmetic, pbrt-v4 style): rays leaving the surface start just
     /// beyond it ([`SurfacePoint::spawn`]).
     pub error: f32,
+    /// On a box's edge or corner, the sum of the world normals of the adjacent faces the point
+    /// lies on (within rounding); zero elsewhere. Rays leave along `normal + edge`, so that they
+    /// start off every face they touch ([`crate::geom::cuboid::surface_point`]).
+    pub edge: Vec3,
     /// Material of the object hit.
     pub material: MaterialId,
 }
 
 impl SurfacePoint {
     /// The origin of a ray leaving this point towards `dir`: just beyond the error bound along
-    /// the geometric normal, on the side `dir` points into ([`crate::math::offset_origin`]).
-    /// Rays leaving the front of a smooth mesh start from the lifted point.
+    /// the geometric normal (and, on a box's edge or corner, along the adjacent faces' normals),
+    /// on the side `dir` points into ([`crate::math::offset_origin`]). Rays leaving the front of
+    /// a smooth mesh start from the lifted point.
     #[inline]
     pub fn spawn(&self, dir: Vec3) -> Vec3 {
         if self.lift != Vec3::ZERO && dir.dot(self.normal) > 0.0 {
@@ -151,6 +156,12 @@ impl SurfacePoint {
             let lifted = self.point + self.lift;
             let error = self.error + crate::math::gamma(1) * lifted.abs().dot(self.normal.abs());
             return offset_origin(lifted, error, self.normal, dir);
+        }
+        if self.edge != Vec3::ZERO {
+            // The side is the face's; the offset leaves the adjacent faces on that side too.
+            let along = self.normal + self.edge;
+            let side = if dir.dot(self.normal) < 0.0 { -along } else { along };
+            return offset_origin(self.point, self.error, along, side);
         }
         offset_origin(self.point, self.error, self.normal, dir)
     }
@@ -425,8 +436,8 @@ pub(crate) fn cuboid_surface(
 ) -> SurfacePoint {
     let local = cuboid_local_normal(hit.prim);
     let normal = crate::geom::cuboid::world_normal(to_object, local);
-    let (point, error) = crate::geom::cuboid::surface_point(to_object, min, max, local, ray, hit.t);
-    SurfacePoint { point, normal, shading: normal, lift: Vec3::ZERO, error, material }
+    let (point, error, edge) = crate::geom::cuboid::surface_point(to_object, min, max, local, ray, hit.t);
+    SurfacePoint { point, normal, shading: normal, lift: Vec3::ZERO, error, edge, material }
 }
 
 /// The surface at a hit on a sphere.
@@ -439,7 +450,7 @@ pub(crate) fn sphere_surface(
     material: MaterialId,
 ) -> SurfacePoint {
     let (point, normal, error) = crate::geom::sphere::surface_point(centre, radius, ray, hit.t);
-    SurfacePoint { point, normal, shading: normal, lift: Vec3::ZERO, error, material }
+    SurfacePoint { point, normal, shading: normal, lift: Vec3::ZERO, error, edge: Vec3::ZERO, material }
 }
 
 /// The surface at a hit on a world-space triangle.
@@ -447,7 +458,7 @@ pub(crate) fn sphere_surface(
 pub(crate) fn triangle_surface([a, b, c]: [Vec3; 3], hit: &Hit, material: MaterialId) -> SurfacePoint {
     let normal = crate::geom::triangle::normal(a, b, c);
     let (point, error) = crate::geom::triangle::surface_point(a, b, c, hit.u, hit.v, normal);
-    SurfacePoint { point, normal, shading: normal, lift: Vec3::ZERO, error, material }
+    SurfacePoint { point, normal, shading: normal, lift: Vec3::ZERO, error, edge: Vec3::ZERO, material }
 }
 
 /// The surface at a hit on a plane.
@@ -460,7 +471,7 @@ pub(crate) fn plane_surface(
     material: MaterialId,
 ) -> SurfacePoint {
     let (point, error) = crate::geom::plane::surface_point(normal, offset, ray, hit.t);
-    SurfacePoint { point, normal, shading: normal, lift: Vec3::ZERO, error, material }
+    SurfacePoint { point, normal, shading: normal, lift: Vec3::ZERO, error, edge: Vec3::ZERO, material }
 }
 
 /// Texture coordinates at a hit on a mesh instance placed by `to_object`: the file's `vt`
@@ -520,6 +531,7 @@ pub(crate) fn instance_surface<L: TriangleLayout>(
         shading: s.shading,
         lift: s.lift,
         error: s.error,
+        edge: Vec3::ZERO,
         material,
     }
 }
