@@ -320,6 +320,9 @@ impl PrimitiveStore for AosStore {
         }
     }
 
+    // Always inlined: a packet lane reads the surface's fields back at once, some with loads
+    // wider than the stores that wrote them, which the CPU cannot forward across a call.
+    #[inline(always)]
     fn surface(&self, hit: &Hit, ray: &Ray) -> SurfacePoint {
         let obj = match hit.stored() {
             Stored::Plane(i) => {

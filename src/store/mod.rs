@@ -515,7 +515,7 @@ pub(crate) fn triangle_uv([a, b, c]: [Vec3; 3], point: Vec3, origin: glam::DVec3
 
 /// The surface at a hit on a mesh instance drawn with `material` (the first of its block when
 /// the mesh has its file's materials).
-#[inline]
+#[inline(always)]
 pub(crate) fn instance_surface<L: TriangleLayout>(
     mesh: &MeshEntry<L>,
     to_object: &crate::math::Affine3A,
