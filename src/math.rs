@@ -185,7 +185,7 @@ pub const SHADOW_EPSILON: f32 = 1.0 / 8192.0;
 /// ends at least `error·|n_i|` out, as pbrt's one-float nudge ensures, without a branch per
 /// coordinate. The offset depends on the arithmetic that produced `p`, not on how far `p` lies
 /// from the world origin.
-#[inline]
+#[inline(always)]
 pub fn offset_origin(p: Vec3, error: f32, n: Vec3, dir: Vec3) -> Vec3 {
     // Lane-wise in `Vec3A` (one SIMD instruction per step, the same IEEE operation per
     // coordinate as three scalar ones).

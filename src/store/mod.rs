@@ -148,8 +148,10 @@ impl SurfacePoint {
     /// The origin of a ray leaving this point towards `dir`: just beyond the error bound along
     /// the geometric normal (and, on a box's edge or corner, along the adjacent faces' normals),
     /// on the side `dir` points into ([`crate::math::offset_origin`]). Rays leaving the front of
-    /// a smooth mesh start from the lifted point.
-    #[inline]
+    /// a smooth mesh start from the lifted point. Always inlined, as are
+    /// [`crate::trace::ShadingPoint::new`] and [`offset_origin`], into the packet lane that has
+    /// just built the surface point: its fields are read in registers, not back from memory.
+    #[inline(always)]
     pub fn spawn(&self, dir: Vec3) -> Vec3 {
         if self.lift != Vec3::ZERO && dir.dot(self.normal) > 0.0 {
             // Adding the lift rounds the coordinates by half an ulp each.

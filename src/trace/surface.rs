@@ -38,7 +38,7 @@ pub struct ShadingPoint {
 
 impl ShadingPoint {
     /// The surface `sp` seen by a ray travelling along `dir`.
-    #[inline]
+    #[inline(always)]
     pub fn new(sp: SurfacePoint, dir: Vec3) -> Self {
         let (entering, n, ns) = facing_normals(&sp, dir);
         Self { sp, entering, n, ns, above: sp.spawn(n) }
