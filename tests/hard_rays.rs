@@ -943,11 +943,21 @@ fn ulp(p: Vec3) -> f32 {
     m.next_up() - m
 }
 
+/// The mesh of [`leaves_cleanly`]'s mesh cases: an icosphere of radius 1.
+fn ico() -> Arc<MeshAsset> {
+    Arc::new(MeshAsset::new("ico", icosphere(Vec3::ZERO, 1.0, 2), 2.0))
+}
+
 /// One case of the property below: a sphere, box, mesh or triangle (`kind` 0–3) of size
 /// `10^size` placed `10^far` from the origin (or at it, for `far < 0`), with a random turn and
-/// rays drawn from `seed`.
-fn leaves_cleanly(size: f64, far: f64, kind: u32, seed: u64) -> Result<(), TestCaseError> {
-    let mesh = Arc::new(MeshAsset::new("ico", icosphere(Vec3::ZERO, 1.0, 2), 2.0));
+/// rays drawn from `seed`; `mesh` is [`ico`]'s.
+fn leaves_cleanly(
+    size: f64,
+    far: f64,
+    kind: u32,
+    seed: u64,
+    mesh: &Arc<MeshAsset>,
+) -> Result<(), TestCaseError> {
     let mut rng = common::rng(seed);
     let distance = if far < 0.0 { 0.0 } else { 10f64.powf(far) };
     let centre = (common::unit_vector(&mut rng).as_dvec3() * distance).as_vec3();
@@ -958,9 +968,9 @@ fn leaves_cleanly(size: f64, far: f64, kind: u32, seed: u64) -> Result<(), TestC
     let s = (10f64.powf(size) as f32).max(4096.0 * ulp(centre));
     let axis = common::unit_vector(&mut rng);
     let turn = Quat::from_axis_angle(axis, rng.random_range(0.0..6.2));
-    let geometry = sized_object(kind, s, centre, turn, &mesh);
+    let geometry = sized_object(kind, s, centre, turn, mesh);
     let scene: TraceScene =
-        TraceScene::build_with_meshes(&[object(geometry)], std::slice::from_ref(&mesh), tables(), 2.0);
+        TraceScene::build_with_meshes(&[object(geometry)], std::slice::from_ref(mesh), tables(), 2.0);
     // Arrive from outside, aimed at the centre.
     let n = common::unit_vector(&mut rng);
     let reach = (3.0 * s).max(64.0 * ulp(centre));
@@ -1050,10 +1060,33 @@ fn a_ray_leaving_a_box_from_an_edge_starts_off_both_faces() {
         (1.5082286277195687, 3.9677620101710893, 6782327499766937210),
         (-5.487848071421352, 3.674866202028829, 18223753705702798734),
     ] {
-        if let Err(e) = leaves_cleanly(size, far, 1, seed) {
+        if let Err(e) = leaves_cleanly(size, far, 1, seed, &ico()) {
             panic!("size {size}, far {far}, seed {seed}: {e}");
         }
     }
+}
+
+/// The property below on a fixed draw of a million box cases (sizes, distances and seeds drawn
+/// as the property draws them, from seed 7): none fails. Before rays left a box's edges off the
+/// adjacent faces too, 18 did; the property's 400 random cases per run met one rarely.
+#[test]
+fn a_million_box_cases_of_the_secondary_ray_property_all_pass() {
+    let (mut rng, mesh) = (common::rng(7), ico());
+    let mut failures = Vec::new();
+    for _ in 0..1_000_000 {
+        let size = rng.random_range(-6.0..6.0f64);
+        let far = rng.random_range(-1.0..6.0f64);
+        let seed: u64 = rng.random();
+        if let Err(TestCaseError::Fail(why)) = leaves_cleanly(size, far, 1, seed, &mesh) {
+            failures.push(format!("size {size}, far {far}, seed {seed}: {why}"));
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} failures, the first: {:?}",
+        failures.len(),
+        &failures[..failures.len().min(3)]
+    );
 }
 
 proptest::proptest! {
@@ -1077,7 +1110,7 @@ proptest::proptest! {
         kind in 0u32..4,
         seed in proptest::prelude::any::<u64>(),
     ) {
-        leaves_cleanly(size, far, kind, seed)?;
+        leaves_cleanly(size, far, kind, seed, &ico())?;
     }
 }
 
