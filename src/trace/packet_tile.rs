@@ -14,7 +14,7 @@ use super::stats::RayCounts;
 use super::tiles::TileOut;
 use crate::math::{Ray, RayPacket, Vec2, Vec3, SHADOW_EPSILON};
 use crate::simd::SimdLevel;
-use crate::store::{PrimitiveStore, TraversalCost};
+use crate::store::{Hit, PrimitiveStore, TraversalCost};
 
 /// Width and height in pixels of the block whose camera rays form one packet.
 pub(super) const BLOCK: [u32; 2] = [4, 4];
@@ -190,53 +190,79 @@ pub(super) fn shade_packet<S: PrimitiveStore>(
     );
     let lane_cost = cost.per_ray(cameras.iter().flatten().count() as u32);
     // Each hit's surface, found once: the shadow packets start from it, and so does the lane's
-    // shading.
-    let surfaces: [Option<ShadingPoint>; LANES] = std::array::from_fn(|lane| {
-        let ray = packet.ray(lane);
-        hits.hit[lane].map(|hit| ShadingPoint::new(scene.store.surface(&hit, &ray), ray.dir))
-    });
+    // shading. Lanes are built and shaded in loops writing in place, not by `array::from_fn`:
+    // that returned each lane's value through a temporary read back at once with wider loads
+    // than its stores, a store the CPU could not forward.
+    let mut surfaces: [Option<ShadingPoint>; LANES] = [None; LANES];
+    for (lane, surface) in surfaces.iter_mut().enumerate() {
+        if let Some(hit) = hits.hit[lane] {
+            let ray = packet.ray(lane);
+            *surface = Some(ShadingPoint::new(scene.store.surface(&hit, &ray), ray.dir));
+        }
+    }
     let hints = point_light_shadows(scene, &surfaces, level, rays);
+    let mut colours = [None; LANES];
+    for (lane, colour) in colours.iter_mut().enumerate() {
+        if let Some(camera) = cameras[lane] {
+            rays.traversal.record(lane_cost);
+            *colour = Some(shade_lane(
+                (scene, settings),
+                packet.ray(lane),
+                hits.hit[lane],
+                camera,
+                (&surfaces[lane], hints[lane].as_ref()),
+                rays,
+            ));
+        }
+    }
+    colours
+}
+
+/// One lane of [`shade_packet`]: the radiance along camera ray `ray` from its first hit `hit`,
+/// whose shading point is `shading`, with the packet's shadow rays' transmittances `hint`.
+#[inline(always)]
+fn shade_lane<S: PrimitiveStore>(
+    (scene, settings): (&TraceScene<S>, &RenderSettings),
+    ray: Ray,
+    hit: Option<Hit>,
+    camera: CameraSample,
+    (shading, hint): (&Option<ShadingPoint>, Option<&ShadowHint>),
+    rays: &mut RayCounts,
+) -> Vec3 {
+    if scene.effects.visible_lights {
+        if let Some(seen) = visible_light(scene, &ray, hit.map_or(f32::INFINITY, |h| h.t)) {
+            rays.budget.record(0, 0);
+            return seen;
+        }
+    }
+    // The shading point is read in place: a copy made here, read back at once with other
+    // widths, was a store the CPU could not forward.
+    let (Some(hit), Some(shading)) = (hit, shading) else {
+        rays.budget.record(0, 0);
+        return scene.background;
+    };
+    let lit = Lit::new(scene, &hit, &ray, shading, 0.0);
+    let view = -ray.dir;
     // No light is sampled: direct light needs no path context ([`point_lights`]).
     let point_lit = !scene.effects.area_lights;
-    std::array::from_fn(|lane| {
-        let camera = cameras[lane]?;
-        let ray = packet.ray(lane);
-        let hit = hits.hit[lane];
-        rays.traversal.record(lane_cost);
-        if scene.effects.visible_lights {
-            if let Some(seen) = visible_light(scene, &ray, hit.map_or(f32::INFINITY, |h| h.t)) {
-                rays.budget.record(0, 0);
-                return Some(seen);
-            }
+    let direct = point_lit.then(|| point_lights(scene, &lit.m, &lit.surface, view, hint, rays));
+    if let Some(direct) =
+        direct.filter(|_| !lit.bounces(&ray, 0, 1.0, settings.max_depth, settings.min_contribution))
+    {
+        rays.budget.record(0, 0);
+        return lit.local(scene, &ray, &hit, direct);
+    }
+    let mut ctx = PathContext::new(settings, camera, rays);
+    let direct = match direct {
+        Some(direct) => direct,
+        None => {
+            ctx.shadow_hint = hint.copied();
+            direct_light(scene, &lit.m, &lit.surface, view, &mut ctx)
         }
-        // The shading point is read in place: a copy made here, read back at once with other
-        // widths, was a store the CPU could not forward.
-        let (Some(hit), Some(shading)) = (hit, &surfaces[lane]) else {
-            rays.budget.record(0, 0);
-            return Some(scene.background);
-        };
-        let lit = Lit::new(scene, &hit, &ray, shading, 0.0);
-        let view = -ray.dir;
-        let direct =
-            point_lit.then(|| point_lights(scene, &lit.m, &lit.surface, view, hints[lane].as_ref(), rays));
-        if let Some(direct) =
-            direct.filter(|_| !lit.bounces(&ray, 0, 1.0, settings.max_depth, settings.min_contribution))
-        {
-            rays.budget.record(0, 0);
-            return Some(lit.local(scene, &ray, &hit, direct));
-        }
-        let mut ctx = PathContext::new(settings, camera, rays);
-        let direct = match direct {
-            Some(direct) => direct,
-            None => {
-                ctx.shadow_hint = hints[lane];
-                direct_light(scene, &lit.m, &lit.surface, view, &mut ctx)
-            }
-        };
-        let colour = bounce(scene, &ray, &hit, &lit, direct, 0, 1.0, &mut ctx);
-        ctx.finish();
-        Some(colour)
-    })
+    };
+    let colour = bounce(scene, &ray, &hit, &lit, direct, 0, 1.0, &mut ctx);
+    ctx.finish();
+    colour
 }
 
 /// The shadow rays from a packet's camera hits towards each of the first [`HINTED_LIGHTS`]
