@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
+DEFAULT_BINARY = os.path.join(REPO, "target", "release", "penumbra")
 sys.path.insert(0, HERE)
 
 import install  # noqa: E402
@@ -69,8 +70,9 @@ def parse_args(argv):
     )
     parser.add_argument(
         "--penumbra",
-        default=os.path.join(REPO, "target", "release", "penumbra"),
-        help="Penumbra binary (default target/release/penumbra; built when missing)",
+        default=DEFAULT_BINARY,
+        help="Penumbra binary (default target/release/penumbra, brought up to date with the "
+        "working tree by `cargo build --release` first)",
     )
     parser.add_argument(
         "--embree-reps", type=int, default=5, help="timed passes per ray kind in Embree (default 5)"
@@ -277,10 +279,15 @@ def compare_embree(case, result, args, layout_rows):
 
 
 def penumbra_binary(args):
-    """A private copy of the binary, so a rebuild during the run cannot change what is measured."""
-    if not os.path.exists(args.penumbra):
-        print("compare: building %s" % args.penumbra, file=sys.stderr)
+    """A private copy of the binary, so a rebuild during the run cannot change what is measured.
+    The default binary is built first (a no-op when it is current): target/release/penumbra may
+    be left over from an experiment since reverted, or be `cargo bench`'s build of the same
+    sources, and the run would measure that under the working tree's name."""
+    if args.penumbra == DEFAULT_BINARY:
+        print("compare: cargo build --release --bin penumbra", file=sys.stderr)
         subprocess.run(["cargo", "build", "--release", "--bin", "penumbra"], cwd=REPO, check=True)
+    elif not os.path.exists(args.penumbra):
+        raise SystemExit("compare: no Penumbra binary at %s" % args.penumbra)
     copy = os.path.join(args.out, "penumbra")
     shutil.copy2(args.penumbra, copy)
     with open(copy, "rb") as f:
