@@ -256,7 +256,8 @@ pub fn ease(name: &str, t: f64) -> Option<f64> {
         "out" => Some(ease_out(t)),
         "in_out" => Some(ease_in_out(t)),
         "smooth" => Some(smoothstep(0.0, 1.0, t)),
-        "sine" => Some((1.0 - (std::f64::consts::PI * t).cos()) / 2.0),
+        // `libm`, not the system's `cos`: the same bits on every CPU (`script::engine`).
+        "sine" => Some((1.0 - libm::cos(std::f64::consts::PI * t)) / 2.0),
         _ => None,
     }
 }
