@@ -24,6 +24,7 @@ int main(void) {
     h = START; EACH(0.0f, 8.0f, h = mix(h, bits_f(tanf(x)))) printf("f32 tanf on [0, 8]                  %016llx\n", (unsigned long long)h);
     h = START; EACH(0.0f, 1.0f, h = mix(h, bits_f(powf(x, 1.0f / 2.4f)))) printf("f32 powf(x, 1/2.4) on [0, 1]        %016llx\n", (unsigned long long)h);
     h = START; EACH(0.052f, 1.0f, h = mix(h, bits_f(powf(x, 2.4f)))) printf("f32 powf(x, 2.4) on [0.052, 1]      %016llx\n", (unsigned long long)h);
+    h = START; EACH(0.0f, 1.0f, h = mix(h, bits_f(powf(x, 1.0f / 2.4f - 1.0f)))) printf("f32 powf(x, 1/2.4 - 1) on [0, 1]    %016llx\n", (unsigned long long)h);
     h = START; EACH(0.0f, 1.0f, { h = mix(h, bits_f(acosf(x))); h = mix(h, bits_f(acosf(-x))); h = mix(h, bits_f(atanf(x))); })
     printf("f32 acosf on [-1, 1], atanf [0, 1]  %016llx\n", (unsigned long long)h);
     h = START; for (uint32_t u = 0x80000000u; u <= bits_f(-100.0f); u++) h = mix(h, bits_f(expf(f_of(u))));
