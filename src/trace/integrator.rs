@@ -76,8 +76,8 @@ pub(crate) fn radiance_at<S: PrimitiveStore>(
     let Some(hit) = found else {
         return scene.background;
     };
-    let lit =
-        Lit::new(scene, &hit, ray, &ShadingPoint::new(scene.surface(&hit, ray, ctx.time), ray.dir), ctx.time);
+    let shading = ShadingPoint::new(scene.surface(&hit, ray, ctx.time), ray.dir);
+    let lit = Lit::new(scene, &hit, ray, &shading, ctx.time);
     let direct = direct_light(scene, &lit.m, &lit.surface, -ray.dir, ctx);
     bounce(scene, ray, &hit, &lit, direct, depth, weight, ctx)
 }
@@ -86,23 +86,23 @@ pub(crate) fn radiance_at<S: PrimitiveStore>(
 /// surface lights see (the shading normal bumped where the material has a bump map and the
 /// bump does not tilt it away from the viewer).
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Lit {
+pub(crate) struct Lit<'a> {
     /// The hit seen from the side its ray arrived on.
-    pub shading: ShadingPoint,
+    pub shading: &'a ShadingPoint,
     /// The material at the hit.
     pub m: Material,
     /// What direct light is computed on.
     pub surface: Surface,
 }
 
-impl Lit {
+impl<'a> Lit<'a> {
     /// The hit `hit` of `ray`, seen as `shading`, at time `time`.
     #[inline]
     pub fn new<S: PrimitiveStore>(
         scene: &TraceScene<S>,
         hit: &Hit,
         ray: &Ray,
-        shading: &ShadingPoint,
+        shading: &'a ShadingPoint,
         time: f32,
     ) -> Self {
         let ShadingPoint { sp, ns, above, .. } = *shading;
@@ -112,7 +112,7 @@ impl Lit {
         // `ns` is taken as it is: read back from `shade_at`'s result, its y and z came in one
         // load across the two stores that wrote them, a stall the CPU cannot forward.
         let ns = if !material.maps.is_empty() && bumped.dot(ray.dir) < 0.0 { bumped } else { ns };
-        Self { shading: *shading, m, surface: Surface { point: sp.point, normal: ns, above, eps: sp.error } }
+        Self { shading, m, surface: Surface { point: sp.point, normal: ns, above, eps: sp.error } }
     }
 
     /// The shares of reflected and transmitted light for `ray`.
@@ -189,7 +189,7 @@ pub(crate) fn bounce<S: PrimitiveStore>(
     ctx: &mut PathContext<'_>,
 ) -> Vec3 {
     let (m, surface) = (&lit.m, &lit.surface);
-    let ShadingPoint { sp, entering, n, .. } = lit.shading;
+    let ShadingPoint { sp, entering, n, .. } = *lit.shading;
     let ns = surface.normal;
     let mut colour = lit.own(scene, direct);
     if depth >= ctx.max_depth {
@@ -363,7 +363,8 @@ mod tests {
             let Some(hit) = closest_hit_at(&scene, &ray, 0.0, f32::INFINITY, 0.0, &mut cost) else {
                 return Ok(());
             };
-            let mut lit = Lit::new(&scene, &hit, &ray, &ShadingPoint::new(scene.surface(&hit, &ray, 0.0), ray.dir), 0.0);
+            let shading = ShadingPoint::new(scene.surface(&hit, &ray, 0.0), ray.dir);
+            let mut lit = Lit::new(&scene, &hit, &ray, &shading, 0.0);
             lit.m.kr = kr;
             lit.m.kt = Vec3::splat(kt);
             lit.m.fresnel = fresnel;

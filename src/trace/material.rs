@@ -6,30 +6,31 @@ use crate::texture::TextureId;
 
 /// A Phong material with mirror reflection and transmission.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C, align(16))]
 pub struct Material {
     /// Diffuse reflectance (RGB); multiplied by [`Maps::kd`] where that is set.
     pub kd: Vec3,
     /// Specular reflectance; multiplied by the mean of [`Maps::ks`]'s colour where set.
     pub ks: f32,
-    /// Phong exponent.
-    pub shininess: f32,
-    /// Mirror reflectance.
-    pub kr: f32,
     /// Transmittance (RGB: tinted glass passes some colours more than others).
     pub kt: Vec3,
+    /// Phong exponent.
+    pub shininess: f32,
+    /// Light the surface gives off towards every viewer (a glowing lamp shade); it lights
+    /// nothing else. Zero for most materials.
+    pub emission: Vec3,
+    /// Mirror reflectance.
+    pub kr: f32,
+    /// Beer–Lambert absorption inside the material, per unit of distance (RGB, ≥ 0): light
+    /// that travels `d` inside keeps `exp(−absorption·d)`. Zero for most materials.
+    pub absorption: Vec3,
     /// Index of refraction.
     pub ior: f32,
     /// Blur of reflection and refraction in [0, 1] (used by distribution effects).
     pub glossiness: f32,
-    /// Light the surface gives off towards every viewer (a glowing lamp shade); it lights
-    /// nothing else. Zero for most materials.
-    pub emission: Vec3,
     /// Whether `kr` and `kt` are balanced by Schlick's Fresnel term at each hit
     /// ([`Material::fresnel_split`]): glass reflects more at grazing angles.
     pub fresnel: bool,
-    /// Beer–Lambert absorption inside the material, per unit of distance (RGB, ≥ 0): light
-    /// that travels `d` inside keeps `exp(−absorption·d)`. Zero for most materials.
-    pub absorption: Vec3,
     /// Textures on the material's colours.
     pub maps: Maps,
 }
