@@ -93,12 +93,61 @@ fn png16_and_tone_mapping_change_only_the_png() {
 }
 
 #[test]
+fn png_compression_changes_the_file_not_the_pixels() {
+    let dir = setup();
+    let size = ["--width", "192"];
+    run(dir.path(), &[&["render", "scene.ron", "-o", "default.png"], &size[..]].concat());
+    for level in ["fast", "balanced", "high"] {
+        let out = format!("{level}.png");
+        run(
+            dir.path(),
+            &[&["render", "scene.ron", "-o", &out, "--png-compression", level], &size[..]].concat(),
+        );
+    }
+    // The compressed image data (the files' metadata differ: each records its command line).
+    let data = |name: &str| idat(&std::fs::read(dir.path().join(name)).unwrap());
+    let pixels = |name: &str| image::open(dir.path().join(name)).unwrap().into_rgb8().into_raw();
+    assert!(data("default.png") == data("fast.png"), "fast is the default");
+    for level in ["balanced", "high"] {
+        let name = format!("{level}.png");
+        assert!(data(&name) != data("fast.png"), "{level}: compressed as fast is");
+        assert!(pixels(&name) == pixels("fast.png"), "{level}: other pixels than fast");
+    }
+    assert!(data("high.png").len() <= data("balanced.png").len());
+    let refused = Command::new(BIN)
+        .args(["render", "scene.ron", "-o", "x.png", "--png-compression", "best"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(2), "{err}");
+    assert!(err.contains("--png-compression") && err.contains("fast, balanced or high"), "{err}");
+    assert!(!dir.path().join("x.png").exists());
+}
+
+/// The concatenated `IDAT` chunks of a PNG file.
+fn idat(png: &[u8]) -> Vec<u8> {
+    let mut data = Vec::new();
+    let mut at = 8;
+    while at + 8 <= png.len() {
+        let len = u32::from_be_bytes(png[at..at + 4].try_into().unwrap()) as usize;
+        if &png[at + 4..at + 8] == b"IDAT" {
+            data.extend_from_slice(&png[at + 8..at + 8 + len]);
+        }
+        at += 12 + len;
+    }
+    assert!(!data.is_empty(), "no image data");
+    data
+}
+
+#[test]
 fn info_rerenders_the_identical_file() {
     let dir = setup();
     for (out, extra) in [
         ("a.png", vec![]),
         ("b.png", vec!["--aov", "depth,object", "--tonemap", "aces", "--samples", "aa=2"]),
         ("c.exr", vec!["--aov", "normal"]),
+        ("e.png", vec!["--png-compression", "high"]),
     ] {
         let mut args = vec!["render", "scene.ron", "-o", out, "--threads", "2"];
         args.extend(extra);

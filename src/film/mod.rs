@@ -22,8 +22,8 @@ pub use aov::{AovSet, Aovs};
 pub use metadata::Metadata;
 pub use metrics::{error_heatmap, luminance_srgb, psnr, rmse, ssim, ssim_map};
 pub use output::{
-    prepare_output, read_exr, read_metadata, write_atomically, write_image, write_png, OutputError,
-    OutputFormat,
+    prepare_output, read_exr, read_metadata, write_atomically, write_image, write_image_with, write_png,
+    OutputError, OutputFormat, PngCompression,
 };
 pub use png_read::{read_png_linear, LinearPng};
 pub use tonemap::{encode_srgb8, linear_to_srgb, srgb_to_linear, tone_map, ToneMapping, ToneOperator};

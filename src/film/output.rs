@@ -16,7 +16,7 @@ use image::{ExtendedColorType, ImageEncoder};
 use super::aov::Aovs;
 use super::aov_png::aov_images;
 use super::exr_io::{decode_exr, encode_exr, read_exr_metadata, reserved_key, LEGEND_KEY};
-pub use super::format::OutputFormat;
+pub use super::format::{OutputFormat, PngCompression};
 use super::metadata::Metadata;
 use super::png_io::{encode_png, film_samples, read_png_metadata, Samples};
 use super::tonemap::{encode_srgb8, ToneMapping};
@@ -197,6 +197,19 @@ pub fn write_image(
     tone: &ToneMapping,
     meta: &Metadata,
 ) -> Result<Vec<PathBuf>, OutputError> {
+    write_image_with(film, aovs, path, (format, PngCompression::default()), tone, meta)
+}
+
+/// [`write_image`], PNG files compressed at `compression` (the pixels are the same at every
+/// level; EXR files ignore it).
+pub fn write_image_with(
+    film: &Film,
+    aovs: Option<&Aovs>,
+    path: &Path,
+    (format, compression): (OutputFormat, PngCompression),
+    tone: &ToneMapping,
+    meta: &Metadata,
+) -> Result<Vec<PathBuf>, OutputError> {
     let meta_error = |(key, reason)| OutputError::Metadata { path: path.to_path_buf(), key, reason };
     meta.validate().map_err(meta_error)?;
     if let Some(aovs) = aovs {
@@ -205,7 +218,7 @@ pub fn write_image(
     let files = if format.is_exr() {
         encode_exr_file(film, aovs, path, format, meta)?
     } else {
-        encode_png_files(film, aovs, path, format, tone, meta)?
+        encode_png_files(film, aovs, path, (format, compression), tone, meta)?
     };
     let staged = files.iter().map(|(p, bytes)| stage(p, bytes)).collect::<Result<Vec<_>, _>>()?;
     for ((p, _), tmp) in files.iter().zip(staged) {
@@ -240,7 +253,7 @@ fn encode_png_files(
     film: &Film,
     aovs: Option<&Aovs>,
     path: &Path,
-    format: OutputFormat,
+    (format, compression): (OutputFormat, PngCompression),
     tone: &ToneMapping,
     meta: &Metadata,
 ) -> Result<Vec<(PathBuf, Vec<u8>)>, OutputError> {
@@ -249,13 +262,18 @@ fn encode_png_files(
         move |source| OutputError::Png { path: p, source }
     };
     let samples = film_samples(film, tone, format == OutputFormat::Png16);
-    let main = encode_png(film.width, film.height, &samples, meta).map_err(png_error(path))?;
+    let main = encode_png(film.width, film.height, &samples, meta, compression).map_err(png_error(path))?;
     let mut files = vec![(path.to_path_buf(), main)];
     for image in aovs.map(aov_images).unwrap_or_default() {
         let aov_path = aov_png_path(path, image.name);
-        let bytes =
-            encode_png(film.width, film.height, &Samples::Eight(image.rgb), &meta.merged(&image.extra))
-                .map_err(png_error(&aov_path))?;
+        let bytes = encode_png(
+            film.width,
+            film.height,
+            &Samples::Eight(image.rgb),
+            &meta.merged(&image.extra),
+            compression,
+        )
+        .map_err(png_error(&aov_path))?;
         files.push((aov_path, bytes));
     }
     Ok(files)

@@ -7,8 +7,9 @@ use std::path::Path;
 
 use png::{BitDepth, ColorType, Decoder, Encoder, EncodingError};
 
+use super::format::PngCompression;
 use super::metadata::{is_latin1, Metadata};
-use super::tonemap::linear_to_srgb;
+use super::tonemap::{linear_to_srgb, srgb8};
 use super::tonemap::{tone_map, ToneMapping};
 use super::Film;
 
@@ -21,16 +22,19 @@ pub(crate) enum Samples {
 }
 
 /// Encodes a `width × height` RGB image with `meta` as text chunks (written before the image
-/// data, in entry order: all `tEXt` chunks, then all `iTXt` chunks).
+/// data, in entry order: all `tEXt` chunks, then all `iTXt` chunks), its data compressed at
+/// `compression`.
 pub(crate) fn encode_png(
     width: u32,
     height: u32,
     samples: &Samples,
     meta: &Metadata,
+    compression: PngCompression,
 ) -> Result<Vec<u8>, EncodingError> {
     let mut out = Vec::new();
     let mut encoder = Encoder::new(&mut out, width, height);
     encoder.set_color(ColorType::Rgb);
+    encoder.set_compression(compression.level());
     for (key, value) in &meta.entries {
         if is_latin1(value) {
             encoder.add_text_chunk(key.clone(), value.clone())?;
@@ -55,14 +59,34 @@ pub(crate) fn encode_png(
     Ok(out)
 }
 
-/// The tone-mapped, sRGB-encoded samples of a film at 8 or 16 bits.
+/// The tone-mapped, sRGB-encoded samples of a film at 8 or 16 bits, blocks of pixels encoded
+/// in parallel (on the calling thread's rayon pool; each sample depends on its pixel alone).
 pub(crate) fn film_samples(film: &Film, tone: &ToneMapping, sixteen: bool) -> Samples {
-    let srgb = film.pixels.iter().flat_map(|&c| tone_map(c, tone).to_array().map(linear_to_srgb));
     if sixteen {
-        Samples::Sixteen(srgb.map(|v| (v * 65535.0 + 0.5) as u16).collect())
+        Samples::Sixteen(encode_parallel(film, tone, |v| (linear_to_srgb(v) * 65535.0 + 0.5) as u16))
     } else {
-        Samples::Eight(srgb.map(|v| (v * 255.0 + 0.5) as u8).collect())
+        Samples::Eight(encode_parallel(film, tone, srgb8))
     }
+}
+
+/// Each pixel's tone-mapped channels through `encode`, row-major RGB.
+fn encode_parallel<T: Copy + Default + Send>(
+    film: &Film,
+    tone: &ToneMapping,
+    encode: impl Fn(f32) -> T + Sync,
+) -> Vec<T> {
+    use rayon::prelude::*;
+    /// Pixels per parallel block.
+    const BLOCK: usize = 4096;
+    let mut out = vec![T::default(); film.pixels.len() * 3];
+    out.par_chunks_mut(BLOCK * 3).zip(film.pixels.par_chunks(BLOCK)).for_each(|(out, pixels)| {
+        for (out, &c) in out.chunks_exact_mut(3).zip(pixels) {
+            for (o, v) in out.iter_mut().zip(tone_map(c, tone).to_array()) {
+                *o = encode(v);
+            }
+        }
+    });
+    out
 }
 
 /// The text chunks of a PNG file (`tEXt`, then `zTXt`, then `iTXt`; each in file order).
@@ -209,7 +233,7 @@ mod tests {
         let mut meta = Metadata::default();
         meta.set("Title", "café");
         meta.set("Comment", "世界");
-        let png = encode_png(1, 1, &Samples::Eight(vec![1, 2, 3]), &meta).unwrap();
+        let png = encode_png(1, 1, &Samples::Eight(vec![1, 2, 3]), &meta, PngCompression::default()).unwrap();
         std::fs::write(&path, png).unwrap();
         assert_eq!(read_png_metadata(&path).unwrap(), meta);
     }

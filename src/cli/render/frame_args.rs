@@ -8,7 +8,7 @@ use std::path::Path;
 use anyhow::Context;
 use clap::Args;
 
-use penumbra::film::{AovSet, OutputFormat, ToneMapping, ToneOperator};
+use penumbra::film::{AovSet, OutputFormat, PngCompression, ToneMapping, ToneOperator};
 use penumbra::sample::Pattern;
 use penumbra::scene::{self, AdaptiveSettings, LightDesc, SceneDesc};
 use penumbra::simd::SimdLevel;
@@ -95,6 +95,10 @@ pub struct FrameArgs {
     /// Output encoding (default: from the extension): png8, png16, exr-half, exr-float.
     #[arg(long, value_name = "FORMAT")]
     pub format: Option<OutputFormat>,
+    /// How hard PNG files are compressed: fast, balanced or high (smaller files, slower
+    /// writes; the pixels are the same). EXR output ignores it.
+    #[arg(long, value_name = "LEVEL", default_value_t = PngCompression::Fast)]
+    pub png_compression: PngCompression,
     /// AOVs to write beside the image (EXR: layers of the same file; PNG: `NAME.AOV.png`):
     /// any of depth, normal, albedo, object, cost, comma-separated.
     #[arg(long, value_name = "LIST", value_parser = AovSet::parse)]
