@@ -128,8 +128,10 @@ impl Watch {
 /// the last bit on 0.07 % of arguments in [−π, π], so a script's motion, and the frames of a
 /// sequence split across a cluster of mixed CPUs, would too. Functions registered on the
 /// engine take precedence over packages. (`sqrt`, the rounding functions and the conversions
-/// are exact in IEEE arithmetic and stay as they are; so does `**`, which Rhai evaluates as a
-/// built-in operator.)
+/// are exact in IEEE arithmetic and stay as they are.) The power operator `**` (and `**=`) on
+/// floats, and on an integer raised to a float, is `libm::pow` too: Rhai's built-in calls the
+/// system's `powf`, so its fast-operators mode, which ignores registered operators for
+/// built-in types, is turned off (integer powers stay exact and built in).
 fn deterministic_math(engine: &mut Engine) {
     type Unary = fn(FLOAT) -> FLOAT;
     let unary: [(&str, Unary); 15] = [
@@ -155,6 +157,12 @@ fn deterministic_math(engine: &mut Engine) {
     engine.register_fn("atan", libm::atan2);
     engine.register_fn("hypot", libm::hypot);
     engine.register_fn("log", |x: FLOAT, base: FLOAT| libm::log(x) / libm::log(base));
+    engine.set_fast_operators(false);
+    engine.register_fn("**", libm::pow);
+    engine.register_fn("**", |x: FLOAT, y: INT| libm::pow(x, y as FLOAT));
+    engine.register_fn("**", |x: INT, y: FLOAT| libm::pow(x as FLOAT, y));
+    engine.register_fn("**=", |x: &mut FLOAT, y: FLOAT| *x = libm::pow(*x, y));
+    engine.register_fn("**=", |x: &mut FLOAT, y: INT| *x = libm::pow(*x, y as FLOAT));
 }
 
 /// How often (in operations) the progress callback looks at the clock.
@@ -233,8 +241,10 @@ mod tests {
     use super::*;
     use rhai::{Array, Scope};
 
-    /// A script's transcendental functions are `libm`'s, bit for bit, on arguments where glibc's
-    /// differ from them (so the package's functions, had they stayed, would fail this on glibc).
+    /// A script's transcendental functions and float powers (`**`, `**=`, constant or not) are
+    /// `libm`'s, bit for bit, on arguments where glibc's differ from them (so the package's
+    /// functions and Rhai's built-in `**`, had they stayed, would fail this on glibc: its `pow`
+    /// differs from `libm`'s on 8 % of these arguments).
     #[test]
     fn a_scripts_math_is_libm_bit_for_bit() {
         let (engine, _) = sandboxed(&Limits::default(), "math.rhai");
@@ -242,11 +252,12 @@ mod tests {
         let mut scope = Scope::new();
         scope.push("xs", xs.iter().map(|&x| Dynamic::from_float(x)).collect::<Array>());
         let script = "let out = []; for x in xs { let a = x * x + 0.5; let u = x / 7.0; \
+            let p = a; p **= 1.37; let q = a; q **= 3; \
             out.append([sin(x), cos(x), tan(x), sinh(x), cosh(x), tanh(x), asin(u), acos(u), \
             atan(x), asinh(x), acosh(a + 1.0), atanh(u), exp(x), ln(a), log(a), atan(x, 0.7), \
-            hypot(x, 0.3), log(a, 3.0)]); } out";
+            hypot(x, 0.3), log(a, 3.0), a ** u, a ** 3, 2 ** u, p, q, 1.7 ** 0.3]); } out";
         let got: Array = engine.eval_with_scope(&mut scope, script).unwrap();
-        let mut system_differs = false;
+        let (mut system_differs, mut pow_differs) = (false, false);
         for (k, &x) in xs.iter().enumerate() {
             let (a, u) = (x * x + 0.5, x / 7.0);
             let want = [
@@ -268,12 +279,19 @@ mod tests {
                 libm::atan2(x, 0.7),
                 libm::hypot(x, 0.3),
                 libm::log(a) / libm::log(3.0),
+                libm::pow(a, u),
+                libm::pow(a, 3.0),
+                libm::pow(2.0, u),
+                libm::pow(a, 1.37),
+                libm::pow(a, 3.0),
+                libm::pow(1.7, 0.3),
             ];
             for (j, w) in want.iter().enumerate() {
                 let g = got[k * want.len() + j].as_float().unwrap();
                 assert_eq!(g.to_bits(), w.to_bits(), "function {j} of the script at {x}: {g} against {w}");
             }
             system_differs |= x.sin() != libm::sin(x) || x.cos() != libm::cos(x) || x.exp() != libm::exp(x);
+            pow_differs |= (x * x + 0.5).powf(x / 7.0) != libm::pow(x * x + 0.5, x / 7.0);
         }
         // Where the system's libm is glibc (CI's), it differs from musl's on some of these
         // arguments, so the test would catch the package's functions. A musl system's agree.
@@ -282,6 +300,7 @@ mod tests {
                 system_differs,
                 "glibc's sin, cos and exp agree with libm's here: the test proves nothing"
             );
+            assert!(pow_differs, "glibc's pow agrees with libm's here: the test proves nothing about **");
         }
     }
 }
