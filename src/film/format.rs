@@ -78,8 +78,9 @@ impl FromStr for OutputFormat {
 
 /// How hard a PNG file's image data is compressed. The pixels are the same at every level;
 /// only the file's size and the time spent writing it differ. Measured on 320×240 to 1280×960
-/// renders (`benches/compare` scenes, this machine): `balanced` takes 15–30× as long as `fast`
-/// for files 8–26 % smaller, `high` 3× as long again for 1–3 % smaller still.
+/// renders (shipped scenes and `benches/compare` twins, docs/compare.md): `balanced` takes
+/// 14–31× as long as `fast` for files 7–26 % smaller, `high` 2.5–3.4× as long again for 1–3 %
+/// smaller still.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum PngCompression {
     /// A DEFLATE tuned for PNG (the `fdeflate` crate): milliseconds for a large frame.
