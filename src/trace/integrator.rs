@@ -170,7 +170,13 @@ impl<'a> Lit<'a> {
     fn absorbed(&self, ray: &Ray, hit: &Hit, colour: Vec3) -> Vec3 {
         match self.shading.entering || self.m.absorption == Vec3::ZERO {
             true => colour,
-            false => colour * (-self.m.absorption * (hit.t * ray.dir.length())).exp(),
+            // `libm`'s `expf`, not the system's: the same bits on every CPU.
+            false => {
+                colour
+                    * Vec3::from_array(
+                        (-self.m.absorption * (hit.t * ray.dir.length())).to_array().map(libm::expf),
+                    )
+            }
         }
     }
 }

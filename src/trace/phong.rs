@@ -44,7 +44,7 @@ pub fn phong(m: &Material, normal: Vec3, view: Vec3, to_light: Vec3, n_dot_l: f3
 
 /// `x^s` for the Phong highlight, `x` in `[0, 1]`: by squaring in 64-bit floats for a whole
 /// exponent (every accepted shininess up to [`crate::scene::rules::MAX_SHININESS`] that is an
-/// integer), `powf` otherwise.
+/// integer), `libm`'s `powf` otherwise (the same bits on every CPU, unlike the system's).
 #[inline]
 pub fn specular_power(x: f32, s: f32) -> f32 {
     if s == s.trunc() && s <= crate::scene::rules::MAX_SHININESS {
@@ -58,7 +58,7 @@ pub fn specular_power(x: f32, s: f32) -> f32 {
         }
         acc as f32
     } else {
-        x.powf(s)
+        libm::powf(x, s)
     }
 }
 
@@ -349,6 +349,6 @@ mod tests {
         assert_eq!(specular_power(0.0, 0.0), 1.0);
         assert_eq!(specular_power(0.0, 3.0), 0.0);
         assert_eq!(specular_power(1.0, 1e4), 1.0);
-        assert_eq!(specular_power(0.7, 2.5), 0.7f32.powf(2.5));
+        assert_eq!(specular_power(0.7, 2.5), libm::powf(0.7, 2.5));
     }
 }
