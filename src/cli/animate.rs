@@ -13,7 +13,7 @@ use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use penumbra::batch::manifest::frame_digits;
 use penumbra::batch::{self, FrameEntry, FrameState, JobSpec, Manifest, Shard, Split};
-use penumbra::film::{write_image_with, OutputFormat};
+use penumbra::film::OutputFormat;
 use penumbra::scene::inputs::Inputs;
 use penumbra::scene::{self, SceneDesc};
 use penumbra::script::{Animation, FrameRange, Limits, Script};
@@ -222,11 +222,10 @@ pub fn run_named(args: &AnimateArgs, argv: &[String], names: Option<(&str, &str)
                 let file = job.file_name(*n);
                 {
                     let _writing = interrupt::writing();
-                    write_image_with(
-                        &film,
-                        aovs.as_ref(),
+                    args.frame.write(
+                        (&film, aovs.as_ref()),
                         &args.output.join(&file),
-                        (format, args.frame.png_compression),
+                        format,
                         &tone,
                         &metadata,
                     )?;

@@ -18,7 +18,7 @@ use clap::Args;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use penumbra::film::{prepare_output, write_image_with, AovSet, Aovs, Film};
+use penumbra::film::{prepare_output, AovSet, Aovs, Film};
 use penumbra::scene::inputs::Inputs;
 use penumbra::scene::{self, SceneDesc};
 use penumbra::store::{AosStore, PrimitiveStore, SoaStore};
@@ -135,16 +135,8 @@ pub fn run_named(args: &RenderArgs, replay: &[String], scene_name: Option<&str>)
     let metadata = meta::describe(&inputs, &settings, &tone, &replay);
     let started = Instant::now();
     // In the render's pool: encoding is parallel, on the threads asked for.
-    let written = pool.install(|| {
-        write_image_with(
-            &film,
-            aovs.as_ref(),
-            &args.output,
-            (format, args.frame.png_compression),
-            &tone,
-            &metadata,
-        )
-    })?;
+    let written =
+        pool.install(|| args.frame.write((&film, aovs.as_ref()), &args.output, format, &tone, &metadata))?;
     stats.times.write = started.elapsed().as_secs_f64();
     let memory = Memory { estimate: memory, peak_rss: estimate::peak_rss() };
     report(&stats, &written, aovs.as_ref().map(|a| a.object_names.as_slice()), &memory, args.stats.as_deref())

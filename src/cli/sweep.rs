@@ -8,7 +8,7 @@ use std::time::Instant;
 use anyhow::Context;
 use clap::Args;
 
-use penumbra::film::{prepare_output, write_atomically, write_image_with, OutputFormat};
+use penumbra::film::{prepare_output, write_atomically, OutputFormat};
 use penumbra::scene::inputs::Inputs;
 use penumbra::scene::{self, SceneDesc};
 use penumbra::script::sweep::{self, file_stem, params_of, SweepRecord};
@@ -94,14 +94,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
                 params.iter().map(|(k, v)| (k.clone(), v.json())).collect();
             metadata.set("penumbra.sweep.params", serde_json::Value::Object(values).to_string());
             let written = Instant::now();
-            write_image_with(
-                &film,
-                aovs.as_ref(),
-                &args.output.join(&file),
-                (format, args.frame.png_compression),
-                &tone,
-                &metadata,
-            )?;
+            args.frame.write((&film, aovs.as_ref()), &args.output.join(&file), format, &tone, &metadata)?;
             stats.times.write = written.elapsed().as_secs_f64();
             let record =
                 SweepRecord { index, file, params, stats, total_seconds: started.elapsed().as_secs_f64() };

@@ -3,12 +3,15 @@
 //! tone mapping, memory check, thread pool and the fingerprint of what changes the pixels.
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 use clap::Args;
 
-use penumbra::film::{AovSet, OutputFormat, PngCompression, ToneMapping, ToneOperator};
+use penumbra::film::{
+    write_image_with, AovSet, Aovs, Film, Metadata, OutputError, OutputFormat, PngCompression, ToneMapping,
+    ToneOperator,
+};
 use penumbra::sample::Pattern;
 use penumbra::scene::{self, AdaptiveSettings, LightDesc, SceneDesc};
 use penumbra::simd::SimdLevel;
@@ -177,6 +180,19 @@ impl FrameArgs {
     /// before any output is prepared or anything rendered.
     pub fn check_simd(&self) -> anyhow::Result<()> {
         check_simd(self.simd)
+    }
+
+    /// Writes a rendered frame (and its AOVs) to `path` in `format`, PNG data compressed as
+    /// `--png-compression` says; every command's frames are written through here.
+    pub fn write(
+        &self,
+        (film, aovs): (&Film, Option<&Aovs>),
+        path: &Path,
+        format: OutputFormat,
+        tone: &ToneMapping,
+        meta: &Metadata,
+    ) -> Result<Vec<PathBuf>, OutputError> {
+        write_image_with(film, aovs, path, (format, self.png_compression), tone, meta)
     }
 
     /// The World's render settings of a frame with the command line's engine options set
