@@ -53,6 +53,8 @@ pub(super) fn render_adaptive<S: PrimitiveStore>(
         .step_by(band as usize)
         .collect::<Vec<_>>()
         .into_par_iter()
+        // One band per job, as tiles are ([`super::tiles::render_tiles`]).
+        .with_max_len(1)
         .flat_map_iter(|y0| {
             let mut rays = RayCounts::default();
             let y1 = (y0 + band).min(h + 1);
@@ -80,6 +82,7 @@ pub(super) fn render_adaptive<S: PrimitiveStore>(
     let tiles_x = w.div_ceil(TILE);
     let refined: Vec<(TileResult, AdaptiveStats)> = (0..tiles_x * h.div_ceil(TILE))
         .into_par_iter()
+        .with_max_len(1)
         .map(|tile| {
             let (x0, y0) = (tile % tiles_x * TILE, tile / tiles_x * TILE);
             let mut rays = RayCounts::default();
