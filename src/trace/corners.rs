@@ -4,14 +4,14 @@
 use rayon::prelude::*;
 
 use super::camera_samples::{packet_of, stratum_time, trace_camera_ray};
-use super::finite::{DropTally, SampleMean};
+use super::finite::SampleMean;
 use super::packet::LANES;
 use super::packet_tile::{camera_packets, lens_packets, shade_packet, BLOCK, MIN_LENS_LANES};
 use super::path::CameraSample;
 use super::scene::TraceScene;
 use super::settings::RenderSettings;
 use super::stats::{AdaptiveCounts, RayCounts};
-use super::tiles::{assemble, saturate, Assembled, TileResult, TILE};
+use super::tiles::{render_tiles_with, saturate, Assembled, TileOut};
 use crate::math::{Vec2, Vec3};
 use crate::sample::adaptive::{
     refine_pixel, AdaptiveSettings, AdaptiveStats, LatticePoint, PointCache, PointSample,
@@ -79,47 +79,29 @@ pub(super) fn render_adaptive<S: PrimitiveStore>(
     let corner = |cx: u32, cy: u32| rows[cy as usize].0[cx as usize];
 
     // Pass 2: refinement, tiles in parallel, each with its own cache and adaptive figures.
-    let tiles_x = w.div_ceil(TILE);
-    let refined: Vec<(TileResult, AdaptiveStats)> = (0..tiles_x * h.div_ceil(TILE))
-        .into_par_iter()
-        .with_max_len(1)
-        .map(|tile| {
-            let (x0, y0) = (tile % tiles_x * TILE, tile / tiles_x * TILE);
-            let mut rays = RayCounts::default();
-            let mut stats = AdaptiveStats::default();
+    let refine =
+        |[x0, y0, x1, y1]: [u32; 4], rays: &mut RayCounts, out: &mut TileOut, stats: &mut AdaptiveStats| {
             let mut cache = PointCache::default();
-            let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
-            let mut costs = Vec::new();
-            let mut dropped = DropTally::default();
-            at_level(&mut || {
-                for y in y0..(y0 + TILE).min(h) {
-                    for x in x0..(x0 + TILE).min(w) {
-                        let corners =
-                            [corner(x, y), corner(x + 1, y), corner(x, y + 1), corner(x + 1, y + 1)];
-                        let before = rays.total();
-                        let dropped_before = stats.dropped;
-                        let mut trace = |p: LatticePoint| point(p, &mut rays);
-                        pixels
-                            .push(refine_pixel(x, y, corners, adaptive, &mut cache, &mut trace, &mut stats));
-                        dropped.record(y * w + x, saturate(stats.dropped - dropped_before));
-                        if want_cost {
-                            costs.push(saturate(rays.total() - before));
-                        }
+            for y in y0..y1 {
+                for x in x0..x1 {
+                    let corners = [corner(x, y), corner(x + 1, y), corner(x, y + 1), corner(x + 1, y + 1)];
+                    let before = rays.total();
+                    let dropped_before = stats.dropped;
+                    let mut trace = |p: LatticePoint| point(p, rays);
+                    let colour = refine_pixel(x, y, corners, adaptive, &mut cache, &mut trace, stats);
+                    out.pixels.push((colour, saturate(stats.dropped - dropped_before)));
+                    if want_cost {
+                        out.costs.push(saturate(rays.total() - before));
                     }
                 }
-            });
-            tile_done();
-            ((pixels, costs, rays, dropped), stats)
-        })
-        .collect();
-    let mut counts = AdaptiveCounts { traced: u64::from(w + 1) * u64::from(h + 1), ..Default::default() };
-    refined.iter().for_each(|(_, s)| {
-        counts.traced += s.traced;
-        counts.reused += s.reused;
-        counts.subdivisions += s.subdivisions;
-    });
-    let tiles: Vec<TileResult> = refined.into_iter().map(|(t, _)| t).collect();
-    let mut image = assemble(settings, &tiles, want_cost);
+            }
+        };
+    let (mut image, stats) = render_tiles_with(settings, want_cost, refine, tile_done);
+    let counts = AdaptiveCounts {
+        traced: u64::from(w + 1) * u64::from(h + 1) + stats.traced,
+        reused: stats.reused,
+        subdivisions: stats.subdivisions,
+    };
     for (cy, (_, costs, row_rays)) in rows.iter().enumerate() {
         image.rays.add(row_rays);
         if let Some(cost) = image.cost.as_mut() {

@@ -11,6 +11,7 @@ use super::stats::RayCounts;
 
 use crate::film::Film;
 use crate::math::Vec3;
+use crate::sample::adaptive::AdaptiveStats;
 
 /// Edge length of a square render tile in pixels.
 pub const TILE: u32 = 16;
@@ -60,6 +61,39 @@ pub(super) fn render_tiles<F>(
 where
     F: Fn([u32; 4], &mut RayCounts, &mut TileOut) + Sync,
 {
+    let shade = |area: [u32; 4], rays: &mut RayCounts, out: &mut TileOut, _: &mut ()| shade(area, rays, out);
+    render_tiles_with(settings, want_cost, shade, tile_done).0
+}
+
+/// Figures a tile's shader keeps besides its ray counts (an adaptive render's
+/// [`AdaptiveStats`]), summed over the tiles; their sums must not depend on the order.
+pub(super) trait TileFigures: Default + Send {
+    /// The figures of two sets of tiles together.
+    fn and(self, other: Self) -> Self;
+}
+
+impl TileFigures for () {
+    fn and(self, (): ()) {}
+}
+
+impl TileFigures for AdaptiveStats {
+    fn and(self, other: Self) -> Self {
+        self + other
+    }
+}
+
+/// [`render_tiles`] for a shader that also keeps figures of its own (`X`): their sum over the
+/// tiles comes back with the image.
+pub(super) fn render_tiles_with<F, X>(
+    settings: &RenderSettings,
+    want_cost: bool,
+    shade: F,
+    tile_done: &(dyn Fn() + Sync),
+) -> (Assembled, X)
+where
+    F: Fn([u32; 4], &mut RayCounts, &mut TileOut, &mut X) + Sync,
+    X: TileFigures,
+{
     let (w, h) = (settings.width, settings.height);
     let band = (TILE * w) as usize;
     let mut film = Film::new(w, h);
@@ -72,7 +106,7 @@ where
     // Counts are integers and drops keep the lowest pixel indices: their sums do not depend on
     // the order tiles finish in, so they are added as they come (a tile's `RayCounts` holds two
     // 96-bucket histograms: collected per tile they were 6 B a pixel).
-    let (rays, dropped) = film
+    let (rays, dropped, figures) = film
         .pixels
         .par_chunks_mut(band)
         .zip(cost_bands)
@@ -91,20 +125,23 @@ where
                     let (x0, y0) = (bx as u32 * TILE, by as u32 * TILE);
                     let area = [x0, y0, (x0 + TILE).min(w), (y0 + TILE).min(h)];
                     let mut rays = RayCounts::default();
+                    let mut figures = X::default();
                     let mut out =
                         TileOut { pixels: Vec::with_capacity((TILE * TILE) as usize), costs: Vec::new() };
-                    crate::simd::with_single_ray_level(settings.simd, || shade(area, &mut rays, &mut out));
+                    crate::simd::with_single_ray_level(settings.simd, || {
+                        shade(area, &mut rays, &mut out, &mut figures)
+                    });
                     let dropped = view.fill(&out, area, w);
                     tile_done();
-                    (rays, dropped)
+                    (rays, dropped, figures)
                 })
         })
         .reduce(
-            || (RayCounts::default(), DropTally::default()),
-            |(mut rays, mut dropped), (more_rays, more_dropped)| {
+            || (RayCounts::default(), DropTally::default(), X::default()),
+            |(mut rays, mut dropped, figures), (more_rays, more_dropped, more_figures)| {
                 rays.add(&more_rays);
                 dropped.add(&more_dropped);
-                (rays, dropped)
+                (rays, dropped, figures.and(more_figures))
             },
         );
     // Every path (fixed samples or adaptive) reaches the film finite by construction.
@@ -113,7 +150,7 @@ where
         "non-finite radiance at pixel index {:?}",
         film.pixels.iter().position(|c| !c.is_finite())
     );
-    Assembled { film, rays, cost, dropped }
+    (Assembled { film, rays, cost, dropped }, figures)
 }
 
 /// One tile's part of the film: its rows of colours and (when a cost image is wanted) of
