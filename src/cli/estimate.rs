@@ -2,9 +2,9 @@
 //! meshes and grids, the encoder's copies and output) and work (camera samples, rays at
 //! least), checked against what the machine has or `--max-memory`.
 //!
-//! The render holds the per-tile results and the film at once while the tiles are assembled,
-//! then the film, the AOVs, the encoder's copies of every channel and the encoded file while
-//! it writes; the peak is the larger of the two, plus the scene. Refusing a render that cannot
+//! The render holds the film (fixed and adaptive renders write their tiles into it in place;
+//! noise-driven renders also hold every tile's results until the film is assembled), then the
+//! film, the AOVs, the encoder's copies of every channel and the encoded file while it writes; the peak is the larger of the two, plus the scene. Refusing a render that cannot
 //! fit (exit 2, with the estimate) replaces an abort on a failed allocation hours later, and
 //! the largest block is reserved once before rendering (exit 1 if even that fails).
 
@@ -20,7 +20,8 @@ const GIB: f64 = (1u64 << 30) as f64;
 pub struct MemoryEstimate {
     /// Film (linear RGB, f32).
     pub film: u64,
-    /// Per-tile results held until the film is assembled (colour and cost).
+    /// Per-tile results held until the film is assembled (colour and cost): noise-driven
+    /// renders only; fixed and adaptive renders write their tiles into the film in place.
     pub tiles: u64,
     /// AOV buffers.
     pub aovs: u64,
@@ -72,7 +73,7 @@ impl MemoryEstimate {
             film: 12 * n,
             // Colour and cost per pixel, and the allocator's share of many small tile buffers
             // (8 B a pixel, measured at 2048² and 4096²).
-            tiles: (12 + cost + 8) * n,
+            tiles: if desc.settings.noise.is_some() { (12 + cost + 8) * n } else { 0 },
             aovs: aov_bytes * n,
             encode: encode_per_pixel * n,
             // Triangles laid out for the store (≈ 48 B each), the top-level grid and tables, and
