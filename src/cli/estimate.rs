@@ -91,13 +91,17 @@ impl MemoryEstimate {
         rendering.max(writing) + self.scene
     }
 
-    /// `about 38.1 GiB (film 3.0 GiB, tiles 3.0 GiB, AOVs 9.0 GiB, encoding 24.0 GiB, scene 0.0 GiB)`.
+    /// `about 33.3 GiB (film 3.0 GiB, AOVs 8.0 GiB, encoding 22.2 GiB, scene 8.0 MiB)`, with
+    /// `tiles …` after the film where the render holds per-tile results (noise-driven renders).
     pub fn describe(&self) -> String {
+        let tiles = match self.tiles {
+            0 => String::new(),
+            bytes => format!(", tiles {}", size(bytes)),
+        };
         format!(
-            "about {} (film {}, tiles {}, AOVs {}, encoding {}, scene {})",
+            "about {} (film {}{tiles}, AOVs {}, encoding {}, scene {})",
             size(self.peak()),
             size(self.film),
-            size(self.tiles),
             size(self.aovs),
             size(self.encode),
             size(self.scene)
@@ -262,6 +266,20 @@ mod tests {
         check_memory(&small, Some(1 << 30)).unwrap();
         let png = MemoryEstimate::of(&scene(100, 10), AovSet::default(), OutputFormat::Png8);
         assert_eq!(png.encode, (12 + 3 + 3 + 1) * 1000, "tone-mapped copy, 8-bit image, file");
+    }
+
+    #[test]
+    fn only_noise_driven_renders_hold_tile_results() {
+        let fixed = MemoryEstimate::of(&scene(100, 10), AovSet::default(), OutputFormat::Png8);
+        assert_eq!(fixed.tiles, 0, "fixed renders write tiles into the film");
+        assert!(!fixed.describe().contains("tiles"), "{}", fixed.describe());
+        let mut desc = scene(100, 10);
+        desc.settings.noise = Some(penumbra::sample::noise::NoiseSettings::default());
+        let cost = AovSet::parse("cost").unwrap();
+        let noisy = MemoryEstimate::of(&desc, cost, OutputFormat::Png8);
+        assert_eq!(noisy.tiles, (12 + 4 + 8) * 1000, "colour, cost and the allocator's share");
+        assert!(noisy.describe().contains("(film 0.0 MiB, tiles 0.0 MiB, AOVs"), "{}", noisy.describe());
+        assert!(noisy.peak() > fixed.peak());
     }
 
     #[test]
