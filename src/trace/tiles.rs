@@ -1,5 +1,6 @@
-//! Tiles: the image cut into squares of [`TILE`] pixels, shaded in parallel and assembled in
-//! tile order, so the film does not depend on which thread shaded what.
+//! Tiles: the image cut into squares of [`TILE`] pixels, shaded in parallel, each written into
+//! its own pixels of the film (noise-driven renders assemble theirs in tile order at the end),
+//! so the film does not depend on which thread shaded what.
 
 use rayon::iter::Either;
 use rayon::prelude::*;
