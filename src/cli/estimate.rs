@@ -4,9 +4,10 @@
 //!
 //! The render holds the film (fixed and adaptive renders write their tiles into it in place;
 //! noise-driven renders also hold every tile's results until the film is assembled), then the
-//! film, the AOVs, the encoder's copies of every channel and the encoded file while it writes; the peak is the larger of the two, plus the scene. Refusing a render that cannot
-//! fit (exit 2, with the estimate) replaces an abort on a failed allocation hours later, and
-//! the largest block is reserved once before rendering (exit 1 if even that fails).
+//! film, the AOVs, the encoder's copies of every channel and the encoded file while it writes;
+//! the peak is the larger of the two, plus the scene. Refusing a render that cannot fit (exit
+//! 2, with the estimate) replaces an abort on a failed allocation hours later, and the largest
+//! block is reserved once before rendering (exit 1 if even that fails).
 
 use penumbra::film::{AovSet, OutputFormat};
 use penumbra::scene::{LightDesc, SceneDesc};
