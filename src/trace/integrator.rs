@@ -118,27 +118,15 @@ impl<'a> Lit<'a> {
     /// The shares of reflected and transmitted light for `ray`.
     #[inline]
     fn split(&self, ray: &Ray) -> (f32, Vec3) {
-        let m = &self.m;
-        if m.fresnel {
-            m.fresnel_split(
-                (-ray.dir.dot(self.surface.normal) / ray.dir.length()).clamp(0.0, 1.0),
-                self.shading.entering,
-            )
-        } else {
-            (m.kr, m.kt)
-        }
+        split(&self.m, self.surface.normal, self.shading.entering, ray)
     }
 
     /// Whether [`bounce`] traces a reflected or refracted ray from this hit of `ray` at `depth`
     /// on a path of weight `weight`: where it does not, the hit's colour is [`Lit::local`].
     #[inline]
     pub fn bounces(&self, ray: &Ray, depth: u32, weight: f32, max_depth: u32, min_contribution: f32) -> bool {
-        if depth >= max_depth {
-            return false;
-        }
-        let (kr, kt) = self.split(ray);
-        let kt_max = kt.max_element();
-        (kr > 0.0 && weight * kr >= min_contribution) || (kt_max > 0.0 && weight * kt_max >= min_contribution)
+        let on = (&self.m, self.surface.normal, self.shading.entering);
+        bounces(on, ray, depth, weight, max_depth, min_contribution)
     }
 
     /// The colour of this hit of `ray` from its own light alone: ambient, `direct` and emission,
@@ -179,6 +167,36 @@ impl<'a> Lit<'a> {
             }
         }
     }
+}
+
+/// The shares of reflected and transmitted light for `ray` meeting material `m` whose normal
+/// (facing the ray) is `normal`, arriving on the front side where `entering`.
+#[inline]
+fn split(m: &Material, normal: Vec3, entering: bool, ray: &Ray) -> (f32, Vec3) {
+    if m.fresnel {
+        m.fresnel_split((-ray.dir.dot(normal) / ray.dir.length()).clamp(0.0, 1.0), entering)
+    } else {
+        (m.kr, m.kt)
+    }
+}
+
+/// [`Lit::bounces`] for a hit on material `m` (textures already applied) with shading normal
+/// `normal`, arriving on the front side where `entering`.
+#[inline]
+pub(crate) fn bounces(
+    (m, normal, entering): (&Material, Vec3, bool),
+    ray: &Ray,
+    depth: u32,
+    weight: f32,
+    max_depth: u32,
+    min_contribution: f32,
+) -> bool {
+    if depth >= max_depth {
+        return false;
+    }
+    let (kr, kt) = split(m, normal, entering, ray);
+    let kt_max = kt.max_element();
+    (kr > 0.0 && weight * kr >= min_contribution) || (kt_max > 0.0 && weight * kt_max >= min_contribution)
 }
 
 /// The radiance leaving hit `hit` of `ray` towards the ray's origin: [`Lit::local`] (with direct

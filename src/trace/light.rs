@@ -270,6 +270,70 @@ impl Light {
         out
     }
 
+    /// [`Self::towards`] from the points `p` (one array per axis) of a point, spot or
+    /// directional light, worked out lane by lane so that the lanes' square roots, divisions and
+    /// falloffs share instructions: in every lane that is `ok`, the same bits as
+    /// [`Self::towards`]. A lane is not `ok` where the light is so near its point, or so far,
+    /// that [`Self::towards`] takes its safe path; area lights give no lane `ok`. Inline it into
+    /// a [`crate::simd::SimdLevel::run`] closure to get the level's vectors.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
+    pub fn towards_lanes<const N: usize>(&self, p: &[[f32; N]; 3]) -> TowardsLanes<N> {
+        let mut out =
+            TowardsLanes { dir: [[0.0; N]; 3], dist: [0.0; N], radiance: [[0.0; N]; 3], ok: [false; N] };
+        let (position, radiance, falloff) = match *self {
+            Light::Point { position, radiance, falloff }
+            | Light::Spot { position, radiance, falloff, .. } => {
+                (position, clamp_radiance(radiance), falloff)
+            }
+            Light::Directional { direction, radiance } => {
+                let (to_light, radiance) = (-direction, clamp_radiance(radiance));
+                for axis in 0..3 {
+                    out.dir[axis] = [to_light[axis]; N];
+                    out.radiance[axis] = [radiance[axis]; N];
+                }
+                return TowardsLanes { dist: [f32::INFINITY; N], ok: [true; N], ..out };
+            }
+            Light::Rect { .. } | Light::Disk { .. } => return out,
+        };
+        for lane in 0..N {
+            // `towards_point`: `Vec3::length`, `Vec3 / f32` and `Falloff::apply`, in the same order.
+            let to = [position.x - p[0][lane], position.y - p[1][lane], position.z - p[2][lane]];
+            let dist = (to[0] * to[0] + to[1] * to[1] + to[2] * to[2]).sqrt();
+            out.dist[lane] = dist;
+            out.ok[lane] = dist.is_finite() && dist >= TINY_DISTANCE;
+            for axis in 0..3 {
+                out.dir[axis][lane] = to[axis] / dist;
+            }
+            let square = dist * dist;
+            for axis in 0..3 {
+                out.radiance[axis][lane] = match falloff {
+                    Falloff::None => radiance[axis],
+                    Falloff::InverseSquare => {
+                        let r = radiance[axis] / square;
+                        if r > f32::MAX {
+                            f32::MAX
+                        } else {
+                            r
+                        }
+                    }
+                };
+            }
+        }
+        if let Light::Spot { direction, cos_inner, cos_outer, .. } = *self {
+            for lane in 0..N {
+                // `-to_light.dot(direction)`: the dot product, negated.
+                let [x, y, z] = [out.dir[0][lane], out.dir[1][lane], out.dir[2][lane]];
+                let cos = -(x * direction.x + y * direction.y + z * direction.z);
+                let factor = spot_factor(cos, cos_inner, cos_outer);
+                for axis in 0..3 {
+                    out.radiance[axis][lane] *= factor;
+                }
+            }
+        }
+        out
+    }
+
     /// True for an area light that camera, reflection and refraction rays see.
     #[inline]
     pub fn is_visible(&self) -> bool {
@@ -372,6 +436,20 @@ impl<const N: usize> LightLanes<N> {
     }
 }
 
+/// Directions, distances and arriving radiance from `N` points to a point, spot or
+/// directional light, lane by lane ([`Light::towards_lanes`]).
+#[derive(Debug, Clone, Copy)]
+pub struct TowardsLanes<const N: usize> {
+    /// Unit directions towards the light, one array per axis.
+    pub dir: [[f32; N]; 3],
+    /// Distances to the light (∞ for a directional light).
+    pub dist: [f32; N],
+    /// The radiance arriving, one array per channel.
+    pub radiance: [[f32; N]; 3],
+    /// Lanes whose direction, distance and radiance are [`Light::towards`]'s.
+    pub ok: [bool; N],
+}
+
 /// Below this distance to a light, `to / |to|` loses precision: [`unit_and_length`] takes over.
 const TINY_DISTANCE: f32 = 1e-18;
 
@@ -396,6 +474,86 @@ fn towards_point(p: Vec3, position: Vec3, radiance: Vec3, falloff: Falloff) -> (
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every lane `ok` has [`Light::towards`]'s bits, and the lanes not `ok` are exactly those
+    /// where it takes its safe path: points at the light, a hair from it, ordinary and far, for
+    /// point lights with and without falloff, spots, directional and area lights.
+    #[test]
+    fn light_lanes_towards_give_the_single_points_bits() {
+        use rand::{RngExt, SeedableRng};
+        const N: usize = 16;
+        let mut rng = rand::rngs::StdRng::seed_from_u64(7);
+        let position = Vec3::new(0.5, 3.0, -1.0);
+        let radiance = Vec3::new(2.0, 1.0, 3e38);
+        let lights = [
+            Light::Point { position, radiance, falloff: Falloff::None },
+            Light::Point { position, radiance, falloff: Falloff::InverseSquare },
+            Light::Spot {
+                position,
+                direction: Vec3::new(0.1, -1.0, 0.2).normalize(),
+                cos_inner: 0.95,
+                cos_outer: 0.8,
+                radiance,
+                falloff: Falloff::InverseSquare,
+            },
+            Light::Directional { direction: Vec3::new(0.3, -1.0, 0.1).normalize(), radiance },
+            Light::Disk {
+                centre: position,
+                axis_u: Vec3::X,
+                axis_v: Vec3::Z,
+                radius: 1.0,
+                radiance,
+                samples: 4,
+                pattern: Pattern::Jittered,
+                falloff: Falloff::None,
+                visible: false,
+            },
+        ];
+        let (mut ok, mut safe) = (0, 0);
+        for round in 0..400 {
+            let points: [Vec3; N] = std::array::from_fn(|lane| match (round + lane) % 5 {
+                0 => position,
+                1 => position + Vec3::new(1e-20, -3e-20, 2e-20),
+                2 => position + Vec3::splat(rng.random_range(-1e-17f32..1e-17)),
+                3 => Vec3::new(rng.random_range(-1e18..1e18), rng.random_range(-1e18..1e18), 0.0),
+                _ => Vec3::new(
+                    rng.random_range(-4.0..4.0),
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-4.0..4.0),
+                ),
+            });
+            let lanes = [0, 1, 2].map(|axis| points.map(|p| p[axis]));
+            for light in &lights {
+                let got = light.towards_lanes(&lanes);
+                for (lane, &p) in points.iter().enumerate() {
+                    let (dir, dist, arriving) = light.towards(p);
+                    let fast = match *light {
+                        Light::Point { .. } | Light::Spot { .. } => {
+                            let d = (position - p).length();
+                            d.is_finite() && d >= TINY_DISTANCE
+                        }
+                        Light::Directional { .. } => true,
+                        _ => false,
+                    };
+                    assert_eq!(got.ok[lane], fast, "{light:?} from {p}");
+                    if !fast {
+                        safe += 1;
+                        continue;
+                    }
+                    ok += 1;
+                    let lane_of = |a: &[[f32; N]; 3]| [0, 1, 2].map(|axis| a[axis][lane].to_bits());
+                    assert_eq!(lane_of(&got.dir), dir.to_array().map(f32::to_bits), "{light:?} from {p}");
+                    assert_eq!(got.dist[lane].to_bits(), dist.to_bits(), "{light:?} from {p}");
+                    assert_eq!(
+                        lane_of(&got.radiance),
+                        arriving.to_array().map(f32::to_bits),
+                        "{light:?} from {p}"
+                    );
+                }
+            }
+        }
+        assert!(ok > 10_000 && safe > 5_000, "{ok} lanes ok, {safe} safe");
+    }
 
     #[test]
     fn towards_a_point_is_finite_near_far_and_at_the_light() {

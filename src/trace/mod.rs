@@ -18,6 +18,7 @@ pub mod effects;
 pub mod finite;
 pub mod integrator;
 pub mod light;
+mod local;
 pub mod material;
 pub mod motion;
 pub mod packet;

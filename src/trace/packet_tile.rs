@@ -5,6 +5,7 @@
 use super::camera_samples::{trace_camera_ray, CameraSampler};
 use super::finite::SampleMean;
 use super::integrator::{bounce, visible_light, Lit, ShadingPoint};
+use super::local::shade_local;
 use super::packet::{closest_hits, shadow_passes, Origins, LANES, MIN_LANES};
 use super::path::{CameraSample, PathContext, ShadowHint, HINTED_LIGHTS};
 use super::phong::{direct_light, point_lights};
@@ -172,9 +173,10 @@ pub(super) fn camera_packets<S: PrimitiveStore>(
 /// each lane shaded on its own from its hit. Each lane's radiance, the same bits as the lane's
 /// ray traced alone ([`radiance_at`](super::integrator::radiance_at)).
 ///
-/// In a scene lit only by point, spot and directional lights, a lane whose hit
-/// sends no reflected or refracted ray is shaded without a path context: its direct light from
-/// the packet's shadow rays, plus ambient and emission ([`Lit::local`]).
+/// In a scene lit only by point, spot and directional lights, the lanes' direct light is found
+/// together where their material has no textures ([`shade_local`]), and a lane whose hit
+/// sends no reflected or refracted ray is finished there: its direct light from the packet's
+/// shadow rays, plus ambient and emission ([`Lit::local`]).
 #[inline]
 pub(super) fn shade_packet<S: PrimitiveStore>(
     (scene, settings): (&TraceScene<S>, &RenderSettings),
@@ -201,16 +203,21 @@ pub(super) fn shade_packet<S: PrimitiveStore>(
         }
     }
     let hints = point_light_shadows(scene, &surfaces, level, rays);
+    let local = shade_local((scene, settings), level, packet, cameras, &hits.hit, &surfaces, &hints, rays);
     let mut colours = [None; LANES];
     for (lane, colour) in colours.iter_mut().enumerate() {
         if let Some(camera) = cameras[lane] {
             rays.traversal.record(lane_cost);
+            if local.done[lane] {
+                *colour = Some(local.colour[lane]);
+                continue;
+            }
             *colour = Some(shade_lane(
                 (scene, settings),
                 packet.ray(lane),
                 hits.hit[lane],
                 camera,
-                (&surfaces[lane], hints[lane].as_ref()),
+                (&surfaces[lane], hints[lane].as_ref(), local.lit[lane].then_some(local.direct[lane])),
                 rays,
             ));
         }
@@ -219,14 +226,15 @@ pub(super) fn shade_packet<S: PrimitiveStore>(
 }
 
 /// One lane of [`shade_packet`]: the radiance along camera ray `ray` from its first hit `hit`,
-/// whose shading point is `shading`, with the packet's shadow rays' transmittances `hint`.
+/// whose shading point is `shading`, with the packet's shadow rays' transmittances `hint`, and
+/// its direct light where it was found with other lanes' (`lit`: [`shade_local`]).
 #[inline(always)]
 fn shade_lane<S: PrimitiveStore>(
     (scene, settings): (&TraceScene<S>, &RenderSettings),
     ray: Ray,
     hit: Option<Hit>,
     camera: CameraSample,
-    (shading, hint): (&Option<ShadingPoint>, Option<&ShadowHint>),
+    (shading, hint, lit_by): (&Option<ShadingPoint>, Option<&ShadowHint>, Option<Vec3>),
     rays: &mut RayCounts,
 ) -> Vec3 {
     if scene.effects.visible_lights {
@@ -245,7 +253,8 @@ fn shade_lane<S: PrimitiveStore>(
     let view = -ray.dir;
     // No light is sampled: direct light needs no path context ([`point_lights`]).
     let point_lit = !scene.effects.area_lights;
-    let direct = point_lit.then(|| point_lights(scene, &lit.m, &lit.surface, view, hint, rays));
+    let direct = point_lit
+        .then(|| lit_by.unwrap_or_else(|| point_lights(scene, &lit.m, &lit.surface, view, hint, rays)));
     if let Some(direct) =
         direct.filter(|_| !lit.bounces(&ray, 0, 1.0, settings.max_depth, settings.min_contribution))
     {

@@ -62,6 +62,43 @@ pub fn specular_power(x: f32, s: f32) -> f32 {
     }
 }
 
+/// [`specular_power`]`(x[i], s[i])` in every lane whose exponent is whole (squared and
+/// multiplied lane by lane: a lane whose exponent has run out of bits multiplies no more; the
+/// same 64-bit products in the same order, so the same bits) and in the `wanted` lanes whose
+/// exponent is not (`libm`'s `powf`, lane after lane); 1 in the others. Inline it into a
+/// [`crate::simd::SimdLevel::run`] closure to get the level's vectors.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // lane arrays indexed by lane
+pub fn specular_power_lanes<const N: usize>(x: &[f32; N], s: &[f32; N], wanted: &[bool; N]) -> [f32; N] {
+    let mut whole = [false; N];
+    let (mut base, mut n, mut acc) = ([0.0f64; N], [0u32; N], [1.0f64; N]);
+    for i in 0..N {
+        whole[i] = s[i] == s[i].trunc() && s[i] <= crate::scene::rules::MAX_SHININESS;
+        base[i] = f64::from(x[i]);
+        n[i] = if whole[i] { s[i] as u32 } else { 0 };
+    }
+    let bits = u32::BITS - n.iter().fold(0, |all, &n| all | n).leading_zeros();
+    for _ in 0..bits {
+        for i in 0..N {
+            if n[i] & 1 != 0 {
+                acc[i] *= base[i];
+            }
+            base[i] *= base[i];
+            n[i] >>= 1;
+        }
+    }
+    let mut out = [0.0f32; N];
+    for i in 0..N {
+        out[i] = acc[i] as f32;
+    }
+    for i in 0..N {
+        if wanted[i] && !whole[i] {
+            out[i] = libm::powf(x[i], s[i]);
+        }
+    }
+    out
+}
+
 /// Light arriving directly from every light source, Phong-weighted and shadowed.
 /// An area light's samples are a per-pixel budget shared among the pixel's camera samples
 /// (stratified across them); each traces one shadow ray.
@@ -112,7 +149,7 @@ pub(crate) fn point_lights<S: PrimitiveStore>(
 
 /// Light `j`'s shadow transmittance in `hint`, where it was traced in a packet.
 #[inline]
-fn known(hint: Option<&ShadowHint>, j: usize) -> Option<Vec3> {
+pub(super) fn known(hint: Option<&ShadowHint>, j: usize) -> Option<Vec3> {
     hint.and_then(|h| h.get(j).copied().flatten())
 }
 
@@ -289,7 +326,7 @@ fn add_lit<S: PrimitiveStore>(
 
 /// Transmittance of a shadow ray (per colour channel), its traversal cost counted.
 #[inline]
-fn shadow<S: PrimitiveStore>(
+pub(super) fn shadow<S: PrimitiveStore>(
     scene: &TraceScene<S>,
     ray: &Ray,
     t_max: f32,
@@ -305,6 +342,43 @@ fn shadow<S: PrimitiveStore>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// [`specular_power_lanes`] has [`specular_power`]'s bits in every lane that is whole or
+    /// wanted: exponents of every size up to the largest accepted, fractional ones, and bases
+    /// at 0, 1, −0 and NaN, lanes of different exponents side by side.
+    #[test]
+    fn specular_powers_lane_by_lane_have_the_single_powers_bits() {
+        use rand::{RngExt, SeedableRng};
+        const N: usize = 16;
+        let mut rng = rand::rngs::StdRng::seed_from_u64(3);
+        let max = crate::scene::rules::MAX_SHININESS;
+        let mut compared = 0;
+        for _ in 0..2000 {
+            let x: [f32; N] = std::array::from_fn(|_| match rng.random_range(0..12) {
+                0 => 0.0,
+                1 => 1.0,
+                2 => -0.0,
+                3 => f32::NAN,
+                _ => rng.random_range(0.0..=1.0),
+            });
+            let s: [f32; N] = std::array::from_fn(|_| match rng.random_range(0..6) {
+                0 => rng.random_range(0.0..=max).round(),
+                1 => rng.random_range(0..=64) as f32,
+                2 => max,
+                3 => rng.random_range(0.0..max),
+                _ => rng.random_range(0.0..300.0f32).round(),
+            });
+            let wanted: [bool; N] = std::array::from_fn(|_| rng.random_range(0..4) != 0);
+            let got = specular_power_lanes(&x, &s, &wanted);
+            for i in 0..N {
+                if s[i] == s[i].trunc() || wanted[i] {
+                    assert_eq!(got[i].to_bits(), specular_power(x[i], s[i]).to_bits(), "{}^{}", x[i], s[i]);
+                    compared += 1;
+                }
+            }
+        }
+        assert!(compared > 25_000, "{compared}");
+    }
 
     #[test]
     fn a_huge_shininess_gives_a_highlight_of_at_most_ks() {
