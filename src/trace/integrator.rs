@@ -146,11 +146,7 @@ impl<'a> Lit<'a> {
     /// Ambient, `direct` and emission.
     #[inline]
     fn own<S: PrimitiveStore>(&self, scene: &TraceScene<S>, direct: Vec3) -> Vec3 {
-        let mut colour = scene.ambient * self.m.kd + direct;
-        if self.m.emission != Vec3::ZERO {
-            colour += self.m.emission;
-        }
-        colour
+        own_light(scene.ambient, self.m.kd, direct, self.m.emission)
     }
 
     /// `colour` less what the material absorbed on the way in, where the ray travelled inside it.
@@ -167,6 +163,17 @@ impl<'a> Lit<'a> {
             }
         }
     }
+}
+
+/// A hit's own light ([`Lit::own`]): `ambient` on its diffuse colour `kd`, its `direct` light and
+/// the `emission` of its material, added in that order.
+#[inline]
+pub(crate) fn own_light(ambient: Vec3, kd: Vec3, direct: Vec3, emission: Vec3) -> Vec3 {
+    let mut colour = ambient * kd + direct;
+    if emission != Vec3::ZERO {
+        colour += emission;
+    }
+    colour
 }
 
 /// The shares of reflected and transmitted light for `ray` meeting material `m` whose normal

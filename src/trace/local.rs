@@ -9,7 +9,7 @@
 //! single-lane path. Shadow rays the packet did not trace
 //! ([`super::packet_tile::point_light_shadows`]) are traced here one by one.
 
-use super::integrator::{bounces, ShadingPoint};
+use super::integrator::{bounces, own_light, ShadingPoint};
 use super::light::{Light, TowardsLanes};
 use super::packet::LANES;
 use super::path::{CameraSample, ShadowHint};
@@ -74,7 +74,7 @@ pub(super) fn shade_local<S: PrimitiveStore>(
         done: [false; LANES],
         colour: [Vec3::ZERO; LANES],
     };
-    if scene.effects.visible_lights || scene.effects.area_lights || scene.lights.iter().any(Light::is_area) {
+    if scene.effects.visible_lights || scene.effects.area_lights {
         return out;
     }
     let zero = [[0.0; LANES]; 3];
@@ -151,7 +151,7 @@ pub(super) fn shade_local<S: PrimitiveStore>(
             }
         },
     );
-    // `Lit::own`: ambient, direct light and emission, in that order.
+    // The lanes finished here: `Lit::local` of their direct light.
     let ambient = scene.ambient;
     for lane in 0..LANES {
         let direct = Vec3::new(direct[0][lane], direct[1][lane], direct[2][lane]);
@@ -160,12 +160,8 @@ pub(super) fn shade_local<S: PrimitiveStore>(
             continue;
         }
         let kd = Vec3::new(g.kd[0][lane], g.kd[1][lane], g.kd[2][lane]);
-        let mut colour = ambient * kd + direct;
         let emission = Vec3::new(g.emission[0][lane], g.emission[1][lane], g.emission[2][lane]);
-        if emission != Vec3::ZERO {
-            colour += emission;
-        }
-        out.colour[lane] = colour;
+        out.colour[lane] = own_light(ambient, kd, direct, emission);
     }
     out.lit = on;
     out.done = done;
