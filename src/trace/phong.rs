@@ -47,7 +47,7 @@ pub fn phong(m: &Material, normal: Vec3, view: Vec3, to_light: Vec3, n_dot_l: f3
 /// integer), `libm`'s `powf` otherwise (the same bits on every CPU, unlike the system's).
 #[inline]
 pub fn specular_power(x: f32, s: f32) -> f32 {
-    if s == s.trunc() && s <= crate::scene::rules::MAX_SHININESS {
+    if whole_exponent(s) {
         let (mut base, mut n, mut acc) = (f64::from(x), s as u32, 1.0f64);
         while n != 0 {
             if n & 1 != 0 {
@@ -62,6 +62,13 @@ pub fn specular_power(x: f32, s: f32) -> f32 {
     }
 }
 
+/// Whether [`specular_power`] takes exponent `s` by squaring: a whole number no larger than
+/// [`crate::scene::rules::MAX_SHININESS`].
+#[inline(always)]
+fn whole_exponent(s: f32) -> bool {
+    s == s.trunc() && s <= crate::scene::rules::MAX_SHININESS
+}
+
 /// [`specular_power`]`(x[i], s[i])` in every lane whose exponent is whole (squared and
 /// multiplied lane by lane: a lane whose exponent has run out of bits multiplies no more; the
 /// same 64-bit products in the same order, so the same bits) and in the `wanted` lanes whose
@@ -73,7 +80,7 @@ pub fn specular_power_lanes<const N: usize>(x: &[f32; N], s: &[f32; N], wanted: 
     let mut whole = [false; N];
     let (mut base, mut n, mut acc) = ([0.0f64; N], [0u32; N], [1.0f64; N]);
     for i in 0..N {
-        whole[i] = s[i] == s[i].trunc() && s[i] <= crate::scene::rules::MAX_SHININESS;
+        whole[i] = whole_exponent(s[i]);
         base[i] = f64::from(x[i]);
         n[i] = if whole[i] { s[i] as u32 } else { 0 };
     }
