@@ -6,7 +6,9 @@ geometry, camera, lights, materials, recursion depth and samples: see povtwin.py
 interleaved (Penumbra, POV-Ray, Penumbra, POV-Ray, ...) `--reps` times on `--threads` threads,
 checks that both programs' own statistics report matching rays by kind (check.py), and takes
 medians. On the mesh scenes it also traces the scene's camera rays and one shadow ray per hit
-with Embree's single-ray API (embree_bench.py) beside Penumbra's figures for the same rays.
+with Embree's single-ray API (embree_bench.py) beside Penumbra's figures for the same rays;
+with `--layout-bench`, Penumbra's bare packets (`cargo bench --bench layout`) and Embree run in
+alternating rounds, and each round's ratio pairs the two runs made side by side.
 
 Prints Markdown tables and writes everything measured to OUT/compare.json. POV-Ray and embreex
 are installed when missing (install.py). docs/compare.md says how to read the output.
@@ -21,6 +23,7 @@ import json
 import os
 import platform
 import shutil
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -80,7 +83,15 @@ def parse_args(argv):
     parser.add_argument(
         "--layout-bench",
         action="store_true",
-        help="also run `cargo bench --bench layout` for Penumbra's bare packet throughput",
+        help="also run `cargo bench --bench layout` for Penumbra's bare packet throughput, in "
+        "rounds alternating with Embree's (see --pair-rounds)",
+    )
+    parser.add_argument(
+        "--pair-rounds",
+        type=int,
+        default=5,
+        help="with --layout-bench: rounds of the layout bench and Embree in turn; each round's "
+        "ratio pairs runs minutes apart, and the table gives the median and range (default 5)",
     )
     parser.add_argument(
         "--no-install", action="store_true", help="fail instead of installing POV-Ray or embreex"
@@ -90,8 +101,8 @@ def parse_args(argv):
     unknown = [s for s in args.scenes if s not in SCENES]
     if unknown:
         parser.error("unknown scene(s): %s" % ", ".join(unknown))
-    if args.reps < 1 or args.threads < 1:
-        parser.error("--reps and --threads must be at least 1")
+    if args.reps < 1 or args.threads < 1 or args.pair_rounds < 1:
+        parser.error("--reps, --threads and --pair-rounds must be at least 1")
     return args
 
 
@@ -228,18 +239,56 @@ def compare_renderers(case, args, binary, include_dir):
     }
 
 
-def compare_embree(case, result, args, layout_rows):
-    """Embree on the mesh scene's camera and shadow rays, beside Penumbra's figures for them."""
-    print("compare: %s Embree" % case.name, file=sys.stderr)
-    embree = run_embree(
-        sys.executable,
-        os.path.join(HERE, "embree_bench.py"),
-        case.ron_path,
-        args.models,
-        args.threads,
-        args.embree_reps,
-        os.path.join(case.dir, "embree.json"),
-    )
+def embree_rounds(cases, args):
+    """Embree on every mesh scene's rays, and with `--layout-bench` Penumbra's layout bench, in
+    alternating rounds (bench, then Embree on each mesh, `--pair-rounds` times): the machine's
+    speed drifts by 10-20 % over minutes, so a ratio of throughputs is only fair between runs
+    made side by side. Without the bench, Embree runs once per mesh. Returns each mesh's Embree
+    runs and the bench's rows, round by round."""
+    meshes = [c for c in cases if c.camera_only_path]
+    rounds = max(1, args.pair_rounds) if args.layout_bench else 1
+    embree = {c.name: [] for c in meshes}
+    layout = []
+    for r in range(rounds):
+        if args.layout_bench:
+            print("compare: cargo bench --bench layout, round %d/%d" % (r + 1, rounds), file=sys.stderr)
+            layout.append(run_layout_bench(REPO, args.threads))
+        for case in meshes:
+            print("compare: %s Embree, round %d/%d" % (case.name, r + 1, rounds), file=sys.stderr)
+            embree[case.name].append(
+                run_embree(
+                    sys.executable,
+                    os.path.join(HERE, "embree_bench.py"),
+                    case.ron_path,
+                    args.models,
+                    args.threads,
+                    args.embree_reps,
+                    os.path.join(case.dir, "embree-%d.json" % (r + 1)),
+                )
+            )
+    return embree, layout
+
+
+def embree_summary(runs):
+    """Embree's figures over its rounds: the first round's description, each kind's median time
+    and throughput over the rounds (with every round's throughput), the median build time."""
+    summary = dict(runs[0].extra)
+    for kind in ("camera", "shadow"):
+        figures = dict(summary[kind])
+        figures["median_s"] = statistics.median(r.extra[kind]["median_s"] for r in runs)
+        figures["rounds_mrays_per_s"] = [r.extra[kind]["mrays_per_s"] for r in runs]
+        figures["mrays_per_s"] = statistics.median(figures["rounds_mrays_per_s"])
+        summary[kind] = figures
+    summary["build_s"] = statistics.median(r.extra["build_s"] for r in runs)
+    summary["rounds"] = len(runs)
+    return summary
+
+
+def compare_embree(case, result, embree_runs, layout_rounds):
+    """Embree on the mesh scene's camera and shadow rays, beside Penumbra's figures for them:
+    its whole renders, and (with the layout bench) its bare packets, each round's ratio taken
+    between the bench and the Embree run that followed it."""
+    embree = embree_summary(embree_runs)
     camera_only = result["penumbra_camera_only"]
     camera_trace = camera_only["trace_s"]
     camera_rays = camera_only["rays"].get("camera", 0)
@@ -272,9 +321,24 @@ def compare_embree(case, result, args, layout_rows):
             camera_trace,
             spread,
         )
-    vs = {"embree": embree.extra, "embree_whole_s": embree.whole_s, "render": render}
-    if layout_rows is not None and case.name in layout_rows:
-        vs["layout_bench"] = layout_rows[case.name]
+    vs = {
+        "embree": embree,
+        "embree_whole_s": statistics.median(r.whole_s for r in embree_runs),
+        "render": render,
+    }
+    rows = [rounds[case.name] for rounds in layout_rounds if case.name in rounds]
+    if rows and len(rows) == len(embree_runs):
+        bench = {key: statistics.median(row[key] for row in rows) for key in rows[0]}
+        bench["rounds"] = rows
+        for kind in ("camera", "shadow"):
+            ratios = [row[kind] / run.extra[kind]["mrays_per_s"] for row, run in zip(rows, embree_runs)]
+            bench[kind + "_vs_embree"] = {
+                "rounds": ratios,
+                "median": statistics.median(ratios),
+                "min": min(ratios),
+                "max": max(ratios),
+            }
+        vs["layout_bench"] = bench
     result["embree_vs"] = vs
 
 
@@ -348,16 +412,11 @@ def main(argv):
     env = environment(args, digest)
 
     cases = [c for c in (prepare(name, args, include_dir) for name in args.scenes) if c is not None]
-    layout_rows = None
-    if args.layout_bench and any(c.camera_only_path for c in cases):
-        print("compare: cargo bench --bench layout", file=sys.stderr)
-        layout_rows = run_layout_bench(REPO, args.threads)
-    results = []
-    for case in cases:
-        result = compare_renderers(case, args, binary, include_dir)
+    results = [compare_renderers(case, args, binary, include_dir) for case in cases]
+    embree_runs, layout_rounds = embree_rounds(cases, args)
+    for case, result in zip(cases, results):
         if case.camera_only_path:
-            compare_embree(case, result, args, layout_rows)
-        results.append(result)
+            compare_embree(case, result, embree_runs[case.name], layout_rounds)
     env["loadavg_end"] = os.getloadavg()
 
     print("## POV-Ray 3.7 and Penumbra, %d threads, medians of %d\n" % (args.threads, args.reps))

@@ -92,7 +92,9 @@ def warnings(results):
 
 
 def embree_table(results):
-    """Embree single-ray throughput against Penumbra's on the same mesh scene's rays."""
+    """Embree single-ray throughput against Penumbra's on the same mesh scene's rays. With the
+    layout bench, its ratio is the median of the rounds' ratios (each the bench against the
+    Embree run beside it), with their range."""
     with_bench = any("layout_bench" in r.get("embree_vs", {}) for r in results)
     header = [
         "mesh",
@@ -104,7 +106,7 @@ def embree_table(results):
         "Penumbra / Embree",
     ]
     if with_bench:
-        header += ["Penumbra layout bench Mrays/s", "Penumbra / Embree"]
+        header += ["Penumbra layout bench Mrays/s", "Penumbra / Embree, median of rounds (range)"]
     rows = []
     for r in results:
         vs = r.get("embree_vs")
@@ -119,10 +121,14 @@ def embree_table(results):
             else:
                 row += ["%.2f" % render["mrays_per_s"], "%.2f×" % (render["mrays_per_s"] / e["mrays_per_s"])]
             if with_bench:
-                bench = vs.get("layout_bench", {}).get(kind)
+                bench = vs.get("layout_bench", {})
+                paired = bench.get(kind + "_vs_embree")
                 row += (
-                    ["%.2f" % bench, "%.2f×" % (bench / e["mrays_per_s"])]
-                    if bench
+                    [
+                        "%.2f" % bench[kind],
+                        "%.2f× (%.2f–%.2f)" % (paired["median"], paired["min"], paired["max"]),
+                    ]
+                    if paired
                     else ["not in the bench", "–"]
                 )
             rows.append(row)
@@ -137,6 +143,7 @@ def embree_notes(results):
             e = vs["embree"]
             lines.append(
                 "%s: Embree BVH build %.1f ms (%d mesh triangles + ground quad), whole process %.2f s"
-                % (r["scene"], 1e3 * e["build_s"], e["mesh_triangles"], vs["embree_whole_s"])
+                " (medians of %d rounds)"
+                % (r["scene"], 1e3 * e["build_s"], e["mesh_triangles"], vs["embree_whole_s"], e.get("rounds", 1))
             )
     return lines
