@@ -146,4 +146,10 @@ def embree_notes(results):
                 " (medians of %d rounds)"
                 % (r["scene"], 1e3 * e["build_s"], e["mesh_triangles"], vs["embree_whole_s"], e.get("rounds", 1))
             )
+            bench = vs.get("layout_bench", {})
+            if "camera_vs_aos" in bench:
+                lines.append(
+                    "%s: layout bench, SoA packets / AoS scalar single rays: camera %.2f×, shadow %.2f×"
+                    % (r["scene"], bench["camera_vs_aos"], bench["shadow_vs_aos"])
+                )
     return lines

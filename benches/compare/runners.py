@@ -154,7 +154,8 @@ def run_layout_bench(repo, threads):
     filtered out), as {scene: {"camera": Mrays/s, "shadow": Mrays/s}} for SoA packets at the
     best SIMD level (what the renderer uses by default), with the single-ray SoA figures (with
     the single-ray SIMD kernels, as the renderer traces single rays) beside them as
-    "camera_single" and "shadow_single"."""
+    "camera_single" and "shadow_single", and the packets' ratio to AoS scalar single rays as
+    "camera_vs_aos" and "shadow_vs_aos" (the issue's layout target)."""
     env = dict(os.environ, RAYON_NUM_THREADS=str(threads))
     _, stdout, _ = timed(
         ["cargo", "bench", "--bench", "layout", "--", "no_criterion_group_matches_this"], cwd=repo, env=env
@@ -166,8 +167,10 @@ def run_layout_bench(repo, threads):
             rows[found.group(1)] = {
                 "camera": float(found.group(2)),
                 "camera_single": float(found.group(3)),
+                "camera_vs_aos": float(found.group(6)),
                 "shadow": float(found.group(9)),
                 "shadow_single": float(found.group(10)),
+                "shadow_vs_aos": float(found.group(13)),
             }
     if not rows:
         raise RunError("cargo bench --bench layout printed no table")
