@@ -9,7 +9,8 @@
 //!
 //! Run: `cargo run --release --example packet_probe -- bunny camera 5` (model `bunny` or
 //! `dragon` from `../shared/models/`, rays `camera` or `shadow`, passes; add `aos` to trace
-//! through the array-of-structures store instead).
+//! through the array-of-structures store instead, or a SIMD level such as `avx2` to trace at
+//! that level instead of the best).
 
 #[path = "../tests/common/mod.rs"]
 mod common;
@@ -27,14 +28,16 @@ fn main() {
     let model = args.first().map_or("bunny", String::as_str);
     let shadow = args.get(1).is_some_and(|k| k == "shadow");
     let reps: usize = args.get(2).and_then(|r| r.parse().ok()).unwrap_or(5);
+    // An argument naming a level (`avx2`, `baseline`, ...) overrides the best one.
+    let level = args.iter().find_map(|a| a.parse::<SimdLevel>().ok()).unwrap_or(SimdLevel::Auto).resolve();
     if args.iter().any(|a| a == "aos") {
-        probe::<AosStore>(model, shadow, reps)
+        probe::<AosStore>(model, shadow, reps, level)
     } else {
-        probe::<SoaStore>(model, shadow, reps)
+        probe::<SoaStore>(model, shadow, reps, level)
     }
 }
 
-fn probe<S: PrimitiveStore>(model: &str, shadow: bool, reps: usize) {
+fn probe<S: PrimitiveStore>(model: &str, shadow: bool, reps: usize, level: SimdLevel) {
     let Some(path) = common::shared_model(&format!("{model}.obj")) else {
         eprintln!("packet_probe: ../shared/models/{model}.obj not found");
         return;
@@ -43,7 +46,6 @@ fn probe<S: PrimitiveStore>(model: &str, shadow: bool, reps: usize) {
     let scene: TraceScene<S> = common::mesh_scene(mesh, penumbra::accel::DEFAULT_LAMBDA);
     let (w, h) = (640u32, 480u32);
     let set = rays::ray_set(&scene, w, h, common::MESH_LIGHT);
-    let level = SimdLevel::Auto.resolve();
     // The packets, filled once: camera rays by 4 × 4 pixel block, shadow rays by the block of
     // their camera ray's pixel.
     let packets: Vec<RayPacket<LANES>> = if shadow {
