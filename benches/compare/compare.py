@@ -246,7 +246,7 @@ def embree_rounds(cases, args):
     made side by side. Without the bench, Embree runs once per mesh. Returns each mesh's Embree
     runs and the bench's rows, round by round."""
     meshes = [c for c in cases if c.camera_only_path]
-    rounds = max(1, args.pair_rounds) if args.layout_bench else 1
+    rounds = args.pair_rounds if args.layout_bench else 1
     embree = {c.name: [] for c in meshes}
     layout = []
     for r in range(rounds):
