@@ -142,9 +142,14 @@ def embree_notes(results):
         if vs:
             e = vs["embree"]
             lines.append(
-                "%s: Embree BVH build %.1f ms (%d mesh triangles + ground quad), whole process %.2f s"
-                " (medians of %d rounds)"
-                % (r["scene"], 1e3 * e["build_s"], e["mesh_triangles"], vs["embree_whole_s"], e.get("rounds", 1))
+                "%s: Embree BVH build %.1f ms (%d mesh triangles + ground quad), whole process %.2f s%s"
+                % (
+                    r["scene"],
+                    1e3 * e["build_s"],
+                    e["mesh_triangles"],
+                    vs["embree_whole_s"],
+                    " (medians of %d rounds)" % e["rounds"] if e.get("rounds", 1) > 1 else "",
+                )
             )
             bench = vs.get("layout_bench", {})
             if "camera_vs_aos" in bench:
