@@ -31,6 +31,15 @@ def fastest(summary):
     return min(r["trace_s"] for r in summary["runs"])
 
 
+def paired(pov, pen):
+    """Each round's POV-Ray trace time over Penumbra's, the two run one right after the other:
+    the median of those ratios and their range. Drift in the machine's speed over the minutes
+    of a run moves both programs of a round alike, so this reads steadier than the ratio of the
+    medians when the spread is large."""
+    ratios = sorted(a["trace_s"] / b["trace_s"] for a, b in zip(pov["runs"], pen["runs"]))
+    return "%.2f× (%.2f–%.2f)" % (median(ratios), ratios[0], ratios[-1])
+
+
 def renderer_table(results):
     """POV-Ray against Penumbra, one row per scene: medians of trace and whole-process time."""
     rows = []
@@ -42,6 +51,7 @@ def renderer_table(results):
                 "%.3f" % pov["trace_s"],
                 "%.3f" % pen["trace_s"],
                 "%.2f×" % (pov["trace_s"] / pen["trace_s"]),
+                paired(pov, pen),
                 "%.2f×" % (fastest(pov) / fastest(pen)),
                 "%.0f %% / %.0f %%" % (spread(pov), spread(pen)),
                 "%.2f" % pov["whole_s"],
@@ -58,6 +68,7 @@ def renderer_table(results):
             "POV-Ray trace s",
             "Penumbra trace s",
             "trace ratio",
+            "paired rounds' ratio (range)",
             "fastest runs' ratio",
             "trace spread POV-Ray / Penumbra",
             "POV-Ray whole s",
