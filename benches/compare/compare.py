@@ -372,6 +372,20 @@ def environment(args, digest):
         (line.split(":", 1)[1].strip() for line in lscpu if line.startswith("Model name")),
         platform.processor(),
     )
+    # The same model name covers several generations (an "Intel(R) Xeon(R) Processor" on a
+    # virtual machine), whose SIMD levels and caches behave differently: record which one.
+    fields = dict(line.split(":", 1) for line in lscpu if ":" in line)
+    detail = ", ".join(
+        "%s %s" % (label, fields[key].strip())
+        for key, label in (
+            ("CPU family", "family"),
+            ("Model", "model"),
+            ("Stepping", "stepping"),
+            ("L2 cache", "L2"),
+            ("L3 cache", "L3"),
+        )
+        if key in fields
+    )
     pov = next(
         (line for line in output(["povray", "--version"]).splitlines() if line.startswith("POV-Ray")), ""
     )
@@ -387,6 +401,7 @@ def environment(args, digest):
     return {
         "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
         "cpu": cpu,
+        "cpu_detail": detail,
         "cores": os.cpu_count(),
         "threads": args.threads,
         "reps": args.reps,
@@ -421,10 +436,11 @@ def main(argv):
 
     print("## POV-Ray 3.7 and Penumbra, %d threads, medians of %d\n" % (args.threads, args.reps))
     print(
-        "%s, %s (%d cores), load average %.2f at the start and %.2f at the end; Penumbra %s, binary sha256 %s…\n"
+        "%s, %s (%s; %d cores), load average %.2f at the start and %.2f at the end; Penumbra %s, binary sha256 %s…\n"
         % (
             env["date"],
             env["cpu"],
+            env["cpu_detail"],
             env["cores"],
             env["loadavg_start"][0],
             env["loadavg_end"][0],
