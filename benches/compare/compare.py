@@ -436,11 +436,11 @@ def main(argv):
 
     print("## POV-Ray 3.7 and Penumbra, %d threads, medians of %d\n" % (args.threads, args.reps))
     print(
-        "%s, %s (%s; %d cores), load average %.2f at the start and %.2f at the end; Penumbra %s, binary sha256 %s…\n"
+        "%s, %s (%s%d cores), load average %.2f at the start and %.2f at the end; Penumbra %s, binary sha256 %s…\n"
         % (
             env["date"],
             env["cpu"],
-            env["cpu_detail"],
+            env["cpu_detail"] + "; " if env["cpu_detail"] else "",
             env["cores"],
             env["loadavg_start"][0],
             env["loadavg_end"][0],
