@@ -1,0 +1,91 @@
+"""Interleaved A/B renders: Penumbra binaries or SIMD levels against the first, on the same scenes.
+
+    python3 benches/compare/ab.py --reps 11 --width 640 --threads 2 \
+        SCENE.ron[,SCENE.ron...] BIN[:LEVEL] BIN[:LEVEL] ...
+
+Each round renders every scene once with every variant, the variants' order reversed in every
+other round, and reads `times.trace` from `--stats`. A variant is a binary, optionally with a
+`--simd` level after a colon (`target/release/penumbra:avx2`). Per scene and variant it prints
+the median trace time, its ratio to the first variant's median, the median of each round's
+ratio to the first variant (the two ran within seconds of each other, so a slow stretch of the
+machine moves both) with the middle half of the rounds, and a hash of the PNG: every variant
+must write the same image. Run by hand, not in CI; the harness's twins (`compare.py --out DIR`,
+`DIR/SCENE/scene.ron`) are the usual scenes.
+"""
+
+import argparse
+import hashlib
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+
+
+def parse_args(argv):
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--reps", type=int, default=11, help="rounds (default 11)")
+    p.add_argument("--width", type=int, help="image width (default: the scene's)")
+    p.add_argument("--threads", type=int, default=2, help="worker threads (default 2)")
+    p.add_argument("scenes", help="comma-separated scene files")
+    p.add_argument("variants", nargs="+", help="BIN or BIN:LEVEL; ratios are against the first")
+    args = p.parse_args(argv)
+    if args.reps < 1:
+        p.error("--reps must be at least 1")
+    return args
+
+
+def render(variant, scene, args, out):
+    binary, _, level = variant.partition(":")
+    png, stats = os.path.join(out, "image.png"), os.path.join(out, "stats.json")
+    command = [binary, "render", scene, "--threads", str(args.threads), "--quiet", "-o", png, "--stats", stats]
+    if args.width:
+        command += ["--width", str(args.width)]
+    if level:
+        command += ["--simd", level]
+    subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
+    with open(stats) as f:
+        trace = json.load(f)["times"]["trace"]
+    with open(png, "rb") as f:
+        digest = hashlib.sha256(f.read()).hexdigest()[:12]
+    return trace, digest
+
+
+def main(argv):
+    args = parse_args(argv)
+    scenes = args.scenes.split(",")
+    with tempfile.TemporaryDirectory() as out:
+        for scene in scenes:
+            times = {v: [] for v in args.variants}
+            digests = {}
+            for rep in range(args.reps):
+                order = args.variants if rep % 2 == 0 else args.variants[::-1]
+                for variant in order:
+                    trace, digests[variant] = render(variant, scene, args, out)
+                    times[variant].append(trace)
+            first = args.variants[0]
+            base = statistics.median(times[first])
+            print("== %s (%d rounds)" % (scene, args.reps))
+            for variant in args.variants:
+                ratios = sorted(t / b for t, b in zip(times[variant], times[first]))
+                quarter = len(ratios) // 4
+                median = statistics.median(times[variant])
+                print(
+                    "  %-40s %9.1f ms  %6.3f×  paired %6.3f× (%.3f–%.3f)  png %s"
+                    % (
+                        variant,
+                        median * 1e3,
+                        median / base,
+                        statistics.median(ratios),
+                        ratios[quarter],
+                        ratios[len(ratios) - 1 - quarter],
+                        digests[variant],
+                    )
+                )
+            if len(set(digests.values())) > 1:
+                print("  WARNING: the variants wrote different images", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
