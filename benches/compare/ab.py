@@ -1,11 +1,13 @@
 """Interleaved A/B renders: Penumbra binaries or SIMD levels against the first, on the same scenes.
 
     python3 benches/compare/ab.py --reps 11 --width 640 --threads 2 \
-        SCENE.ron[,SCENE.ron...] BIN[:LEVEL] BIN[:LEVEL] ...
+        SCENE.ron[,SCENE.ron...] BIN[:LEVEL][@THREADS] BIN[:LEVEL][@THREADS] ...
 
 Each round renders every scene once with every variant, the variants' order reversed in every
 other round, and reads `times.trace` from `--stats`. A variant is a binary, optionally with a
-`--simd` level after a colon (`target/release/penumbra:avx2`). Per scene and variant it prints
+`--simd` level after a colon and a thread count after an at sign, which overrides `--threads`
+(`target/release/penumbra:avx2`, `target/release/penumbra@1`: the ratio of `BIN@1` to `BIN@2`
+is the two-thread scaling). Per scene and variant it prints
 the median trace time, its ratio to the first variant's median, the median of each round's
 ratio to the first variant (the two ran within seconds of each other, so a slow stretch of the
 machine moves both) with the middle half of the rounds, and a hash of the PNG: every variant
@@ -29,7 +31,7 @@ def parse_args(argv):
     p.add_argument("--width", type=int, help="image width (default: the scene's)")
     p.add_argument("--threads", type=int, default=2, help="worker threads (default 2)")
     p.add_argument("scenes", help="comma-separated scene files")
-    p.add_argument("variants", nargs="+", help="BIN or BIN:LEVEL; ratios are against the first")
+    p.add_argument("variants", nargs="+", help="BIN[:LEVEL][@THREADS]; ratios are against the first")
     args = p.parse_args(argv)
     if args.reps < 1:
         p.error("--reps must be at least 1")
@@ -37,9 +39,11 @@ def parse_args(argv):
 
 
 def render(variant, scene, args, out):
+    variant, _, threads = variant.partition("@")
     binary, _, level = variant.partition(":")
     png, stats = os.path.join(out, "image.png"), os.path.join(out, "stats.json")
-    command = [binary, "render", scene, "--threads", str(args.threads), "--quiet", "-o", png, "--stats", stats]
+    threads = threads or str(args.threads)
+    command = [binary, "render", scene, "--threads", threads, "--quiet", "-o", png, "--stats", stats]
     if args.width:
         command += ["--width", str(args.width)]
     if level:
