@@ -10,8 +10,9 @@ other round, and reads `times.trace` from `--stats`. A variant is a binary, opti
 is the two-thread scaling). Per scene and variant it prints
 the median trace time, its ratio to the first variant's median, the median of each round's
 ratio to the first variant (the two ran within seconds of each other, so a slow stretch of the
-machine moves both) with the middle half of the rounds, and a hash of the PNG: every variant
-must write the same image. Run by hand, not in CI; the harness's twins (`compare.py --out DIR`,
+machine moves both) with the middle half of the rounds, and a hash of the PNG. Every render of
+a scene must write the same image, whatever the variant: one that does not is named and the
+script exits with status 1 after its tables. Run by hand, not in CI; the harness's twins (`compare.py --out DIR`,
 `DIR/SCENE/scene.ron`) are the usual scenes.
 """
 
@@ -23,6 +24,8 @@ import statistics
 import subprocess
 import sys
 import tempfile
+
+import report
 
 
 def parse_args(argv):
@@ -59,20 +62,25 @@ def render(variant, scene, args, out):
 def main(argv):
     args = parse_args(argv)
     scenes = args.scenes.split(",")
+    differ = []
     with tempfile.TemporaryDirectory() as out:
         for scene in scenes:
             times = {v: [] for v in args.variants}
             digests = {}
+            want = None
             for rep in range(args.reps):
                 order = args.variants if rep % 2 == 0 else args.variants[::-1]
                 for variant in order:
                     trace, digests[variant] = render(variant, scene, args, out)
+                    want = want or digests[variant]
+                    if digests[variant] != want:
+                        differ.append("%s, round %d, %s" % (scene, rep + 1, variant))
                     times[variant].append(trace)
             first = args.variants[0]
             base = statistics.median(times[first])
             print("== %s (%d rounds)" % (scene, args.reps))
             for variant in args.variants:
-                ratios = sorted(t / b for t, b in zip(times[variant], times[first]))
+                ratios = report.round_ratios(times[variant], times[first])
                 quarter = len(ratios) // 4
                 median = statistics.median(times[variant])
                 print(
@@ -87,8 +95,11 @@ def main(argv):
                         digests[variant],
                     )
                 )
-            if len(set(digests.values())) > 1:
-                print("  WARNING: the variants wrote different images", file=sys.stderr)
+    if differ:
+        print("ab: these renders wrote another image than the scene's first:", file=sys.stderr)
+        for line in differ:
+            print("  " + line, file=sys.stderr)
+        sys.exit(1)
 
 
 if __name__ == "__main__":

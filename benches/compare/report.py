@@ -31,12 +31,18 @@ def fastest(summary):
     return min(r["trace_s"] for r in summary["runs"])
 
 
+def round_ratios(numerators, denominators):
+    """Each round's ratio of two programs' (or variants') times, sorted: the two ran one right
+    after the other, so drift in the machine's speed over the minutes of a run moves both alike,
+    and the median of these reads steadier than the ratio of the medians when the spread is
+    large."""
+    return sorted(a / b for a, b in zip(numerators, denominators))
+
+
 def paired(pov, pen):
-    """Each round's POV-Ray trace time over Penumbra's, the two run one right after the other:
-    the median of those ratios and their range. Drift in the machine's speed over the minutes
-    of a run moves both programs of a round alike, so this reads steadier than the ratio of the
-    medians when the spread is large."""
-    ratios = sorted(a["trace_s"] / b["trace_s"] for a, b in zip(pov["runs"], pen["runs"]))
+    """POV-Ray's trace time over Penumbra's, round by round ([`round_ratios`]): the median and
+    the range."""
+    ratios = round_ratios([r["trace_s"] for r in pov["runs"]], [r["trace_s"] for r in pen["runs"]])
     return "%.2f× (%.2f–%.2f)" % (median(ratios), ratios[0], ratios[-1])
 
 
